@@ -1,0 +1,194 @@
+#include "cli.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "../io/sysconfig.h"
+
+enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS };
+
+static int cr_parse_bool(const char *s, int *out)
+{
+    static const char *yes[] = {"true", "yes", "on", "1"}, *no[] = {"false", "no", "off", "0"};
+    size_t i;
+    for (i = 0; i < sizeof yes / sizeof yes[0]; i++) {
+        if (strcasecmp(s, yes[i]) == 0) {
+            *out = 1;
+            return 0;
+        }
+        if (strcasecmp(s, no[i]) == 0) {
+            *out = 0;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+static int cr_parse_long(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    long v;
+    errno = 0;
+    v = strtol(s, &end, 10);
+    if (errno || end == s || *end != '\0' || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+void cr_cli_usage(const char *prog, FILE *out)
+{
+    fprintf(out,
+            "Usage: %s -s <scene file> -o <output directory> -x <width> -y <height>\n"
+            "          [-f <frames>] [-t <output types>] [-c <system configuration>]\n"
+            "          [-v <true/false>] [-q <true/false>] [-a <true/false>]\n"
+            "          [--backend auto|cpu|cuda] [--threads N] [-i] [-h] [--version] [--]\n"
+            "\n"
+            "  -s, --scene_file FILE   scene to render (YAML, see README)\n"
+            "  -o, --output_dir DIR    where outputs go (created if missing)\n"
+            "  -x, --x_res N           frame width in pixels\n"
+            "  -y, --y_res N           frame height in pixels\n"
+            "  -f, --frames N          number of frames; animated values run from their\n"
+            "                          start (frame 0) to their end (frame N-1); default 1\n"
+            "  -t, --output_type SET   any of i (info.txt), c (c_<k>.png colour),\n"
+            "                          r (r_<k>.png redshift), d (d_<k>.csv pixel data);\n"
+            "                          default icr\n"
+            "  -c, --config FILE       system configuration (default: config.yml if present)\n"
+            "  -v, --verbose BOOL      more detail on the console and in the log\n"
+            "  -q, --quiet BOOL        no console output (the log still gets it)\n"
+            "  -a, --auto_accept BOOL  do not ask before rendering\n"
+            "      --backend B         auto (CUDA when a usable GPU exists), cpu or cuda\n"
+            "      --threads N         CPU threads (overrides cpu.threads)\n"
+            "  -i, --info              list CUDA devices\n"
+            "  -h, --help              this help\n"
+            "      --version           print the version\n"
+            "  --                      ignore the rest of the command line\n",
+            prog);
+}
+
+int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *err)
+{
+    static const struct option longopts[] = {
+        {"scene_file", required_argument, 0, 's'},
+        {"output_dir", required_argument, 0, 'o'},
+        {"x_res", required_argument, 0, 'x'},
+        {"y_res", required_argument, 0, 'y'},
+        {"frames", required_argument, 0, 'f'},
+        {"output_type", required_argument, 0, 't'},
+        {"config", required_argument, 0, 'c'},
+        {"verbose", required_argument, 0, 'v'},
+        {"quiet", required_argument, 0, 'q'},
+        {"auto_accept", required_argument, 0, 'a'},
+        {"info", no_argument, 0, 'i'},
+        {"help", no_argument, 0, 'h'},
+        {"version", no_argument, 0, OPT_VERSION},
+        {"backend", required_argument, 0, OPT_BACKEND},
+        {"threads", required_argument, 0, OPT_THREADS},
+        {0, 0, 0, 0}};
+    int opt;
+    memset(c, 0, sizeof *c);
+    c->frames = 1;
+    c->output_type = "icr";
+    c->verbose = c->quiet = c->auto_accept = -1;
+    c->backend = prog_cpu_only ? CR_BACKEND_CPU : CR_BACKEND_AUTO;
+    optind = 1;
+    opterr = 0;
+    while ((opt = getopt_long(argc, argv, "+:s:o:x:y:f:t:c:v:q:a:ih", longopts, NULL)) != -1) {
+        int *flag = NULL;
+        switch (opt) {
+        case 's': c->scene_path = optarg; break;
+        case 'o': c->output_dir = optarg; break;
+        case 't': c->output_type = optarg; break;
+        case 'c': c->config_path = optarg; break;
+        case 'x':
+            if (cr_parse_long(optarg, 1, CR_MAX_SIDE, &c->width))
+                return cr_err_set(err, "-x: expected a width from 1 to %ld pixels, got '%s'",
+                                  CR_MAX_SIDE, optarg);
+            break;
+        case 'y':
+            if (cr_parse_long(optarg, 1, CR_MAX_SIDE, &c->height))
+                return cr_err_set(err, "-y: expected a height from 1 to %ld pixels, got '%s'",
+                                  CR_MAX_SIDE, optarg);
+            break;
+        case 'f':
+            if (cr_parse_long(optarg, 1, CR_MAX_FRAMES, &c->frames))
+                return cr_err_set(err, "-f: expected a frame count from 1 to %ld, got '%s'",
+                                  CR_MAX_FRAMES, optarg);
+            break;
+        case OPT_THREADS:
+            if (cr_parse_long(optarg, 1, 1024, &c->threads))
+                return cr_err_set(err, "--threads: expected 1 to 1024, got '%s'", optarg);
+            break;
+        case 'v': flag = &c->verbose; break;
+        case 'q': flag = &c->quiet; break;
+        case 'a': flag = &c->auto_accept; break;
+        case 'i': c->info = 1; break;
+        case 'h': c->help = 1; break;
+        case OPT_VERSION: c->version = 1; break;
+        case OPT_BACKEND:
+            if (strcmp(optarg, "auto") == 0)
+                c->backend = CR_BACKEND_AUTO;
+            else if (strcmp(optarg, "cpu") == 0)
+                c->backend = CR_BACKEND_CPU;
+            else if (strcmp(optarg, "cuda") == 0 || strcmp(optarg, "gpu") == 0)
+                c->backend = CR_BACKEND_CUDA;
+            else
+                return cr_err_set(err, "--backend: expected auto, cpu or cuda, got '%s'", optarg);
+            break;
+        case ':':
+            if (optopt == 'v' || optopt == 'q' || optopt == 'a') {
+                /* a trailing -v/-q/-a without its value means true */
+                *(optopt == 'v' ? &c->verbose : optopt == 'q' ? &c->quiet : &c->auto_accept) = 1;
+                break;
+            }
+            if (optopt)
+                return cr_err_set(err, "option -%c needs a value (see -h)", optopt);
+            return cr_err_set(err, "option %s needs a value (see -h)", argv[optind - 1]);
+        default:
+            if (optopt)
+                return cr_err_set(err, "unknown option -%c (see -h)", optopt);
+            return cr_err_set(err, "unknown option %s (see -h)", argv[optind - 1]);
+        }
+        if (flag) {
+            if (cr_parse_bool(optarg, flag) == 0)
+                continue;
+            if (optarg[0] == '-') {
+                /* "-v -s x": -v given without a value; the next word is an option */
+                *flag = 1;
+                optind--;
+                continue;
+            }
+            return cr_err_set(err, "-%c: expected true or false, got '%s'", opt, optarg);
+        }
+    }
+    if (optind < argc && strcmp(argv[optind - 1], "--") != 0)
+        return cr_err_set(err, "unexpected argument '%s' (see -h)", argv[optind]);
+    return 0;
+}
+
+int cr_cli_check_render(const cr_cli *c, cr_err *err)
+{
+    const char *p;
+    if (!c->scene_path)
+        return cr_err_set(err, "no scene file given (-s); see -h");
+    if (!c->output_dir)
+        return cr_err_set(err, "no output directory given (-o); see -h");
+    if (!c->width || !c->height)
+        return cr_err_set(err, "the frame size is required: -x <width> -y <height>");
+    if (c->width * c->height > CR_MAX_PIXELS)
+        return cr_err_set(err,
+                          "a %ldx%ld frame has %ld pixels, more than the %ld this version renders "
+                          "(it would need about %.1f GiB of memory)",
+                          c->width, c->height, c->width * c->height, CR_MAX_PIXELS,
+                          (double)c->width * c->height * 48.0 / (1 << 30));
+    if (!c->output_type[0])
+        return cr_err_set(err, "-t: empty output type; use any of i, c, r, d");
+    for (p = c->output_type; *p; p++)
+        if (!strchr("icrd", *p))
+            return cr_err_set(err, "-t: unknown output type '%c' in '%s'; use any of i, c, r, d",
+                              *p, c->output_type);
+    return 0;
+}

@@ -1,0 +1,45 @@
+/* curray cli: the command line (E.1). */
+#ifndef CR_CLI_CLI_H
+#define CR_CLI_CLI_H
+
+#include <stdio.h>
+
+#include "../io/error.h"
+
+typedef enum cr_backend_choice {
+    CR_BACKEND_AUTO = 0,
+    CR_BACKEND_CPU,
+    CR_BACKEND_CUDA
+} cr_backend_choice;
+
+/* Parsed command line. Tri-state booleans: -1 = not given (use the system
+ * configuration), 0 = false, 1 = true. */
+typedef struct cr_cli {
+    const char *scene_path;  /* -s */
+    const char *output_dir;  /* -o */
+    long width, height;      /* -x -y, 0 = not given */
+    long frames;             /* -f, default 1 */
+    const char *output_type; /* -t, default "icr" */
+    const char *config_path; /* -c, NULL = config.yml when present */
+    int verbose, quiet, auto_accept;
+    int info, help, version;
+    cr_backend_choice backend;
+    long threads;            /* --threads, 0 = from the configuration */
+} cr_cli;
+
+/* Largest frame accepted, in pixels per side and in total. */
+#define CR_MAX_SIDE 65536L
+#define CR_MAX_PIXELS (1L << 28)
+#define CR_MAX_FRAMES 1000000L
+
+/* Parse argv. prog_cpu_only: the program was started as curray_cpu, which
+ * defaults to the CPU backend. Returns 0, or -1 with a message (usage error). */
+int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *out, cr_err *err);
+
+/* Check the values a render needs (-s -o -x -y present, sizes and frame
+ * count sane, output types valid). Returns 0 or -1 with a message. */
+int cr_cli_check_render(const cr_cli *c, cr_err *err);
+
+void cr_cli_usage(const char *prog, FILE *out);
+
+#endif

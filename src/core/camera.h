@@ -1,0 +1,153 @@
+/* curray core: the static observer's frame and pixel -> initial ray (6.4, D).
+ *
+ * Local orthonormal frame of the static observer (equivalent to D.25, see
+ * ERRATA "Observer frame"):
+ *   e_t   = d_t / sqrt(-g_tt)
+ *   e_r   = d_r / sqrt(g_rr)
+ *   e_th  = d_th / sqrt(g_thth)
+ *   e_ph  = (d_ph - (g_tphi/g_tt) d_t) / sqrt(Delta sin^2 / (-g_tt))
+ * The paper's local Cartesian axes are x = e_r, y = e_th, z = e_ph.
+ *
+ * Camera, before rotation: forward = -x (towards the hole), image right = +z
+ * (towards +phi), image up = -y (towards the +z pole, decreasing theta).
+ * Rotations (6.4 and E.4): roll about -x, then pitch about -z, then yaw about
+ * -y, each by the right-hand rule, applied to the camera axes in that order.
+ * Consequences: positive roll turns the camera clockwise as seen from behind
+ * it, positive pitch tilts the view towards +theta (down in the image),
+ * positive yaw turns the view towards -phi (left); yaw = 180 deg looks away
+ * from the hole.
+ *
+ * Pixel (i, j), i = 0..W-1 left to right, j = 0..H-1 top to bottom, looks
+ * through the point (sx, sy) of a screen at unit distance,
+ *   sx = (2 (i + 1/2) / W - 1) tan(hfov/2),  sy = (1 - 2 (j + 1/2) / H) tan(vfov/2),
+ * so the centre pixel of an odd-sized image looks straight ahead.
+ */
+#ifndef CR_CORE_CAMERA_H
+#define CR_CORE_CAMERA_H
+
+#include "geodesic.h"
+
+/* Rotate v (3 components) by angle ang about the unit axis k (right-hand
+ * rule, Rodrigues' formula). */
+CR_HD static inline void cr_rotate(double v[3], const double k[3], double ang)
+{
+    double c = cos(ang), s = sin(ang);
+    double kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+    double x[3];
+    x[0] = k[1] * v[2] - k[2] * v[1];
+    x[1] = k[2] * v[0] - k[0] * v[2];
+    x[2] = k[0] * v[1] - k[1] * v[0];
+    v[0] = v[0] * c + x[0] * s + k[0] * kv * (1.0 - c);
+    v[1] = v[1] * c + x[1] * s + k[1] * kv * (1.0 - c);
+    v[2] = v[2] * c + x[2] * s + k[2] * kv * (1.0 - c);
+}
+
+/* Apply roll about -x, pitch about -z, yaw about -y (in that order) to n
+ * vectors of a local (x, y, z) frame. Shared by the camera and the spheres. */
+CR_HD static inline void cr_rotate_rpy(double (*v)[3], int n, double roll, double pitch,
+                                       double yaw)
+{
+    const double mx[3] = {-1.0, 0.0, 0.0}, mz[3] = {0.0, 0.0, -1.0},
+                 my[3] = {0.0, -1.0, 0.0};
+    int i;
+    for (i = 0; i < n; i++) {
+        cr_rotate(v[i], mx, roll);
+        cr_rotate(v[i], mz, pitch);
+        cr_rotate(v[i], my, yaw);
+    }
+}
+
+/* Fill the observer-derived fields of f: tetrad, rotated camera axes, screen
+ * half-extents, sqrt(-g_tt) at the observer, on-axis flag. Requires a static
+ * observer outside the ergosurface (checked by the scene validation). */
+CR_HD static inline void cr_camera_prepare(cr_frame *f)
+{
+    const cr_observer *o = &f->observer;
+    cr_metric_point p;
+    int a, b;
+    double s = sin(o->theta);
+    cr_metric_eval(&f->metric, o->r, o->theta, &p);
+    for (a = 0; a < 4; a++)
+        for (b = 0; b < 4; b++)
+            f->tetrad[a][b] = 0.0;
+    f->obs_on_axis = 0;
+    if (fabs(s) < 1e-10)
+        f->obs_on_axis = cos(o->theta) > 0.0 ? 1 : -1;
+    f->obs_sqrt_mgtt = sqrt(-p.g_tt);
+    f->tetrad[0][0] = 1.0 / f->obs_sqrt_mgtt;
+    f->tetrad[1][1] = 1.0 / sqrt(p.g_rr);
+    f->tetrad[2][2] = 1.0 / sqrt(p.g_thth);
+    if (!f->obs_on_axis) {
+        double n = sqrt(p.delta * p.sin2 / -p.g_tt);
+        f->tetrad[3][0] = -(p.g_tph / p.g_tt) / n;
+        f->tetrad[3][3] = 1.0 / n;
+    }
+    /* forward, right, up */
+    f->cam[0][0] = -1.0; f->cam[0][1] = 0.0;  f->cam[0][2] = 0.0;
+    f->cam[1][0] = 0.0;  f->cam[1][1] = 0.0;  f->cam[1][2] = 1.0;
+    f->cam[2][0] = 0.0;  f->cam[2][1] = -1.0; f->cam[2][2] = 0.0;
+    cr_rotate_rpy(f->cam, 3, o->roll, o->pitch, o->yaw);
+    f->tan_half_h = tan(0.5 * o->hfov);
+    f->tan_half_v = tan(0.5 * o->vfov);
+}
+
+/* Unit direction, in the local (e_r, e_th, e_ph) basis, in which pixel (i, j)
+ * looks. */
+CR_HD static inline void cr_camera_pixel_dir(const cr_frame *f, double i, double j,
+                                             double n[3])
+{
+    double sx = (2.0 * (i + 0.5) / f->width - 1.0) * f->tan_half_h;
+    double sy = (1.0 - 2.0 * (j + 0.5) / f->height) * f->tan_half_v;
+    double len;
+    int k;
+    for (k = 0; k < 3; k++)
+        n[k] = f->cam[0][k] + sx * f->cam[1][k] + sy * f->cam[2][k];
+    len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (k = 0; k < 3; k++)
+        n[k] /= len;
+}
+
+/* Initial state and constants of the backward ray that looks in the local
+ * unit direction n: the tangent is the past-directed -k = -e_t + n^i e_i of
+ * the photon with unit energy in the observer's frame arriving from n.
+ *
+ * On the axis (sin theta = 0) e_ph does not exist; every direction there has
+ * L = 0, and the ray leaving the pole horizontally towards Cartesian azimuth
+ * psi is the ray at phi = psi moving in theta. */
+CR_HD static inline void cr_camera_ray(const cr_frame *f, const double n[3], cr_geo *g,
+                                       double y[CR_NY])
+{
+    const cr_observer *o = &f->observer;
+    cr_metric_point p;
+    double u[4];
+    int k;
+    g->mt = f->metric;
+    y[CR_Y_T] = 0.0;
+    y[CR_Y_R] = o->r;
+    y[CR_Y_TH] = o->theta;
+    y[CR_Y_PH] = o->phi;
+    for (k = 0; k < 4; k++)
+        u[k] = -f->tetrad[0][k] + n[0] * f->tetrad[1][k] + n[1] * f->tetrad[2][k] +
+               n[2] * f->tetrad[3][k];
+    if (f->obs_on_axis) {
+        /* Horizontal part n_th e_th + n_ph e_ph at the pole, as a Cartesian
+         * vector: e_th = (cos th cos ph, cos th sin ph, 0), e_ph = (-sin ph, cos ph, 0). */
+        double ct = f->obs_on_axis > 0 ? 1.0 : -1.0;
+        double hx = n[1] * ct * cos(o->phi) - n[2] * sin(o->phi);
+        double hy = n[1] * ct * sin(o->phi) + n[2] * cos(o->phi);
+        double hl = sqrt(hx * hx + hy * hy);
+        y[CR_Y_TH] = f->obs_on_axis > 0 ? 0.0 : CR_PI;
+        y[CR_Y_PH] = hl > 0.0 ? atan2(hy, hx) : o->phi;
+        u[2] = ct * hl * f->tetrad[2][2];
+        u[3] = 0.0;
+    }
+    y[CR_Y_UR] = u[1];
+    y[CR_Y_UTH] = u[2];
+    cr_metric_eval(&f->metric, o->r, y[CR_Y_TH], &p);
+    cr_geo_constants(&p, u, &g->E, &g->L);
+    if (f->obs_on_axis)
+        g->L = 0.0;
+    cr_geo_set_floor(g, y);
+}
+
+#endif

@@ -1,0 +1,149 @@
+/* curray core: shared definitions and plain-data types.
+ *
+ * Everything under src/core/ is header-only physics that compiles as C11 and
+ * as CUDA C++ (nvcc). Rules: CR_HD static inline functions only, no
+ * allocation, no I/O, no global mutable state, no VLAs or compound literals.
+ *
+ * Conventions (see DESIGN.md):
+ *   - signature (-+++), G = c = 1; lengths in units of M when M = 1;
+ *   - Boyer-Lindquist coordinates x^mu = (t, r, theta, phi), indices 0..3;
+ *   - backward tracing: a ray starts at the observer with the PAST-directed
+ *     tangent -k of the photon that arrives there (ERRATA item 1), so the
+ *     conserved E = u_t (2.3.5) is positive for rays started outside the
+ *     ergosphere and u^t < 0 along the ray;
+ *   - all angles in radians.
+ */
+#ifndef CR_CORE_DEFS_H
+#define CR_CORE_DEFS_H
+
+#include <math.h>
+#include <stdint.h>
+
+#ifdef __CUDACC__
+#define CR_HD __host__ __device__
+#else
+#define CR_HD
+#endif
+
+#define CR_PI 3.14159265358979323846
+#define CR_TWO_PI 6.28318530717958647692
+
+/* An 8-bit sRGB colour. */
+typedef struct cr_rgb {
+    uint8_t r, g, b;
+} cr_rgb;
+
+/* Kerr-Newman parameters: mass M > 0, spin a = J/M, charge Q (geometrized
+ * units). A horizon exists iff a^2 + Q^2 <= M^2. */
+typedef struct cr_metric {
+    double m, a, q;
+} cr_metric;
+
+/* A static observer at BL position (r, theta, phi). roll, pitch, yaw rotate
+ * the camera (section 6.4, see camera.h); hfov, vfov are the full fields of
+ * view in (0, pi). All angles in radians. */
+typedef struct cr_observer {
+    double r, theta, phi;
+    double roll, pitch, yaw;
+    double hfov, vfov;
+} cr_observer;
+
+/* Thin accretion disc in the plane theta = pi/2 between BL radii r_in < r_out,
+ * with a chessboard of n_radial rings x n_sectors sectors rotated by yaw about
+ * the polar axis. color1 is the top (theta < pi/2) face, color2 the bottom. */
+typedef struct cr_disc {
+    int enabled;
+    cr_rgb color1, color2;
+    int n_radial, n_sectors;
+    double yaw;
+    double r_in, r_out;
+} cr_disc;
+
+/* A sphere defined in the Cartesian coordinates (2.2.8). Centre at BL
+ * (r, theta, phi); chessboard of n_lat latitude bands x n_lon longitude
+ * sectors; orientation by roll, pitch, yaw about its local axes (E.4).
+ * center[] and axes[][] are derived by cr_sphere_prepare (objects.h):
+ * axes[0] = longitude-zero direction, axes[1] = the sphere's north pole,
+ * axes[2] = longitude +90 deg, all unit Cartesian vectors. */
+typedef struct cr_sphere {
+    cr_rgb color;
+    int n_lat, n_lon;
+    double r, theta, phi;
+    double roll, pitch, yaw;
+    double radius;
+    double center[3];
+    double axes[3][3];
+} cr_sphere;
+
+/* An equirectangular sky texture, rgb[3 * (y * width + x)], row y = 0 at the
+ * sky's theta = 0 (6.10.1). The pointer is host or device memory, matching
+ * the backend that traces the frame. */
+typedef struct cr_sky {
+    const uint8_t *rgb;
+    int width, height;
+} cr_sky;
+
+/* How a ray ended. Values are stable: they are written to CSV files. */
+typedef enum cr_outcome {
+    CR_OUT_NONE = 0,    /* not traced */
+    CR_OUT_HORIZON = 1, /* reached r+ + epsilon */
+    CR_OUT_DISC = 2,    /* hit the accretion disc */
+    CR_OUT_SPHERE = 3,  /* hit a sphere */
+    CR_OUT_SKY = 4,     /* left the scene boundary r_max outward */
+    CR_OUT_ERROR = 5,   /* numerical failure (non-finite state) */
+    CR_OUT_LIMIT = 6,   /* step or turn limit reached (e.g. photon-sphere orbit) */
+    CR_OUT_COUNT_ = 7
+} cr_outcome;
+
+/* Everything needed to trace every pixel of one frame: plain data, no
+ * pointers but the sphere array and the sky texture (both read-only).
+ * Filled by the scene module for frame k, then completed by
+ * cr_frame_prepare (trace.h), which derives the fields marked "derived". */
+typedef struct cr_frame {
+    cr_metric metric;
+    cr_observer observer;
+    cr_disc disc;
+    const cr_sphere *spheres;
+    int n_spheres;
+    cr_sky sky;          /* sky.rgb == NULL: plain sky_color */
+    double sky_boundary; /* R of 6.10; 0 when unset */
+    cr_rgb sky_color, horizon_color, error_color;
+    int width, height;
+
+    /* raytracer settings (system configuration) */
+    double step_multiplier; /* c of (6.6.1), > 0 */
+    double horizon_epsilon; /* epsilon of 6.8, > 0 */
+    long max_steps;         /* steps before CR_OUT_LIMIT */
+    double max_turns;       /* accumulated |dphi|/2pi before CR_OUT_LIMIT */
+
+    /* derived */
+    double r_stop;        /* r+ + epsilon */
+    double r_max;         /* scene boundary (6.8, 6.10) */
+    double obs_sqrt_mgtt; /* sqrt(-g_tt) at the observer */
+    double tan_half_h, tan_half_v;
+    double cam[3][3];     /* camera forward, right, up in the observer's local
+                             orthonormal (e_r, e_theta, e_phi) basis */
+    double tetrad[4][4];  /* BL components of e_t, e_r, e_theta, e_phi */
+    int obs_on_axis;      /* +1 north pole, -1 south pole, 0 otherwise */
+} cr_frame;
+
+/* Result for one pixel. redshift = omega_r / omega_s (6.9), -1 where it is
+ * not defined (source inside the ergosphere, error, limit). err_mean and
+ * err_std are the mean and standard deviation of the null error (6.7.1) over
+ * the ray's steps. object: sphere index for CR_OUT_SPHERE, 0 top / 1 bottom
+ * face for CR_OUT_DISC, -1 otherwise. */
+typedef struct cr_pixel {
+    double redshift;
+    double err_mean, err_std;
+    uint32_t steps;
+    int16_t object;
+    uint8_t outcome;
+    cr_rgb color;
+} cr_pixel;
+
+CR_HD static inline int cr_isfinite(double x)
+{
+    return x - x == 0.0;
+}
+
+#endif

@@ -1,0 +1,87 @@
+#include "render_cpu.h"
+
+#include <errno.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "../core/trace.h"
+
+#define CR_MAX_THREADS 1024
+
+typedef struct cr_cpu_job {
+    const cr_frame *f;
+    cr_pixel *out;
+    atomic_int next_row;
+    atomic_int rows_done;
+    volatile sig_atomic_t *cancel;
+} cr_cpu_job;
+
+static void *cr_cpu_worker(void *arg)
+{
+    cr_cpu_job *job = arg;
+    const cr_frame *f = job->f;
+    for (;;) {
+        int j = atomic_fetch_add(&job->next_row, 1), i;
+        if (j >= f->height || (job->cancel && *job->cancel))
+            break;
+        for (i = 0; i < f->width; i++)
+            job->out[(size_t)j * f->width + i] = cr_trace_pixel(f, i, j);
+        atomic_fetch_add(&job->rows_done, 1);
+    }
+    return NULL;
+}
+
+int cr_cpu_cores(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
+}
+
+int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn progress,
+                  void *ctx, volatile sig_atomic_t *cancel, cr_err *err)
+{
+    pthread_t tid[CR_MAX_THREADS];
+    cr_cpu_job job;
+    int t, started = 0, rc = 0;
+
+    if (threads <= 0)
+        threads = cr_cpu_cores();
+    if (threads > CR_MAX_THREADS)
+        threads = CR_MAX_THREADS;
+    if (threads > f->height)
+        threads = f->height > 0 ? f->height : 1;
+    job.f = f;
+    job.out = out;
+    job.cancel = cancel;
+    atomic_init(&job.next_row, 0);
+    atomic_init(&job.rows_done, 0);
+
+    for (t = 0; t < threads; t++) {
+        int e = pthread_create(&tid[t], NULL, cr_cpu_worker, &job);
+        if (e != 0) {
+            if (started == 0)
+                return cr_err_set(err, "cannot start a worker thread: %s", strerror(e));
+            break; /* render with the threads we have */
+        }
+        started++;
+    }
+    while (atomic_load(&job.rows_done) < f->height) {
+        struct timespec ts = {0, 250 * 1000 * 1000};
+        if (cancel && *cancel)
+            break;
+        if (progress)
+            progress(ctx, atomic_load(&job.rows_done), f->height);
+        while (nanosleep(&ts, &ts) == -1 && errno == EINTR && !(cancel && *cancel))
+            ;
+    }
+    for (t = 0; t < started; t++)
+        pthread_join(tid[t], NULL);
+    if (cancel && *cancel)
+        rc = cr_err_set(err, "interrupted");
+    else if (progress)
+        progress(ctx, f->height, f->height);
+    return rc;
+}

@@ -1,0 +1,47 @@
+/* The CUDA backend's interface in a build without CUDA. */
+#include "gpu.h"
+
+#define CR_GPU_NO_CUDA "this build of curray has no CUDA support (nvcc was not found when it " \
+                       "was built, or CURRAY_CUDA was OFF)"
+
+int cr_gpu_built(void)
+{
+    return 0;
+}
+
+int cr_gpu_count(cr_err *err)
+{
+    cr_err_set(err, CR_GPU_NO_CUDA);
+    return 0;
+}
+
+int cr_gpu_usable(int device, cr_err *err)
+{
+    (void)device;
+    cr_err_set(err, CR_GPU_NO_CUDA);
+    return 0;
+}
+
+void cr_gpu_print_info(FILE *out)
+{
+    fprintf(out, "CUDA GPU information:\n\nThis build of curray has no CUDA support "
+                 "(nvcc was not found when it was built, or CURRAY_CUDA was OFF); it renders "
+                 "on the CPU.\n");
+}
+
+int cr_gpu_render(int device, const cr_frame *f, cr_pixel *out, cr_err *err)
+{
+    return cr_gpu_render_ex(device, f, out, NULL, NULL, NULL, err);
+}
+
+int cr_gpu_render_ex(int device, const cr_frame *f, cr_pixel *out, cr_gpu_progress_fn progress,
+                     void *ctx, volatile sig_atomic_t *cancel, cr_err *err)
+{
+    (void)device;
+    (void)f;
+    (void)out;
+    (void)progress;
+    (void)ctx;
+    (void)cancel;
+    return cr_err_set(err, CR_GPU_NO_CUDA);
+}

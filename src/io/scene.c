@@ -1,0 +1,712 @@
+/* curray io: scene files (appendix E.4) and their evaluation per frame.
+ *
+ * Loading walks the libyaml document with the checked getters of yamlutil.h;
+ * every error names file:line:col and the key path. The physical checks of
+ * ERRATA item 4 depend on the frame (values may be animated), so they are
+ * made by cr_scene_frame.
+ */
+#include "scene.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/trace.h"
+#include "png_io.h"
+#include "yamlutil.h"
+
+/* Largest scene file read (bytes). */
+#define SCENE_MAX_BYTES (16L << 20)
+/* Largest sky image loaded (pixels). */
+#define SKY_MAX_PIXELS (1LL << 28)
+/* Relative slack on a^2 + Q^2 <= M^2, so that the extremal case survives
+ * rounding (0.6^2 + 0.8^2 is 1.0000000000000002 in doubles). */
+#define EXTREMAL_TOL 1e-12
+/* Slack (radians) on the observer's theta in [0, pi]. */
+#define THETA_TOL 1e-9
+
+#define REQ(k) {k, 1, 0, NULL, NULL, 0}
+#define OPT(k) {k, 0, 0, NULL, NULL, 0}
+#define MANY(k) {k, 0, 1, NULL, NULL, 0}
+
+/* What a scalar value is: a plain number or an angle (stored in radians). */
+typedef enum { V_NUMBER, V_ANGLE } value_kind;
+
+static int get_value(cr_yaml *y, yaml_node_t *node, const char *path, value_kind kind,
+                     double *out, cr_err *err)
+{
+    return kind == V_ANGLE ? cr_yaml_angle(y, node, path, out, err)
+                           : cr_yaml_number(y, node, path, out, err);
+}
+
+/* A value that may be animated: a scalar, or [linear, start, end] whose start
+ * and end follow the same unit rules. */
+static int get_anim(cr_yaml *y, yaml_node_t *node, const char *path, value_kind kind,
+                    cr_anim *out, cr_err *err)
+{
+    char sub[CR_YAML_PATH], got[96];
+    const char *what = kind == V_ANGLE ? "an angle" : "a number";
+    double v;
+
+    if (node && node->type == YAML_SEQUENCE_NODE) {
+        yaml_node_t *it[3], *first = NULL;
+        if (node->data.sequence.items.top > node->data.sequence.items.start)
+            first = cr_yaml_node(y, node->data.sequence.items.start[0]);
+        if (first && first->type == YAML_SCALAR_NODE && first->data.scalar.length > 0) {
+            char c = (char)first->data.scalar.value[0];
+            if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z')) {
+                if (!cr_yaml_scalar_is(first, "linear")) {
+                    cr_yaml_describe(first, got, sizeof got);
+                    cr_yaml_path_index(sub, sizeof sub, path, 0);
+                    return cr_yaml_fail(y, first, sub, err,
+                                        "unknown animation %s (expected [linear, start, end])",
+                                        got);
+                }
+                if (cr_yaml_list(y, node, path, 3, "an animation [linear, start, end]", it, NULL,
+                                 err))
+                    return -1;
+                cr_yaml_path_index(sub, sizeof sub, path, 1);
+                if (get_value(y, it[1], sub, kind, &out->a, err))
+                    return -1;
+                cr_yaml_path_index(sub, sizeof sub, path, 2);
+                return get_value(y, it[2], sub, kind, &out->b, err);
+            }
+        }
+        cr_yaml_describe(node, got, sizeof got);
+        return cr_yaml_fail(y, node, path, err,
+                            "expected %s or an animation [linear, start, end], got %s", what, got);
+    }
+    if (get_value(y, node, path, kind, &v, err))
+        return -1;
+    out->a = out->b = v;
+    return 0;
+}
+
+/* An optional or required animated field of section path: sets the default
+ * dflt when it is absent. */
+static int field_anim(cr_yaml *y, const cr_yaml_field *f, const char *path, value_kind kind,
+                      double dflt, cr_anim *out, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    if (!f->value) {
+        out->a = out->b = dflt;
+        return 0;
+    }
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    return get_anim(y, f->value, sub, kind, out, err);
+}
+
+static int get_rgb(cr_yaml *y, yaml_node_t *node, const char *path, cr_rgb *out, cr_err *err)
+{
+    yaml_node_t *it[3];
+    char sub[CR_YAML_PATH];
+    long v[3];
+    int i;
+    if (cr_yaml_list(y, node, path, 3, "a colour [R, G, B]", it, NULL, err))
+        return -1;
+    for (i = 0; i < 3; i++) {
+        cr_yaml_path_index(sub, sizeof sub, path, i);
+        if (cr_yaml_int(y, it[i], sub, 0, 255, "a colour component, an integer from 0 to 255",
+                        &v[i], err))
+            return -1;
+    }
+    out->r = (uint8_t)v[0];
+    out->g = (uint8_t)v[1];
+    out->b = (uint8_t)v[2];
+    return 0;
+}
+
+static int field_rgb(cr_yaml *y, const cr_yaml_field *f, const char *path, cr_rgb dflt,
+                     cr_rgb *out, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    if (!f->value) {
+        *out = dflt;
+        return 0;
+    }
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    return get_rgb(y, f->value, sub, out, err);
+}
+
+/* resolution: [n1, n2], both positive integers. what names the pair. */
+static int field_resolution(cr_yaml *y, const cr_yaml_field *f, const char *path,
+                            const char *what, int *n1, int *n2, cr_err *err)
+{
+    yaml_node_t *it[2];
+    char sub[CR_YAML_PATH], sub2[CR_YAML_PATH];
+    long v[2];
+    int i;
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    if (cr_yaml_list(y, f->value, sub, 2, what, it, NULL, err))
+        return -1;
+    for (i = 0; i < 2; i++) {
+        cr_yaml_path_index(sub2, sizeof sub2, sub, i);
+        if (cr_yaml_int(y, it[i], sub2, 1, 2147483647L, "a positive integer", &v[i], err))
+            return -1;
+    }
+    *n1 = (int)v[0];
+    *n2 = (int)v[1];
+    return 0;
+}
+
+/* ---- sections ------------------------------------------------------------- */
+
+static int parse_metric(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
+                        cr_err *err)
+{
+    cr_yaml_field f[] = {REQ("m"), REQ("a"), REQ("q")};
+    if (cr_yaml_fields(y, map, "metric", key, f, 3, err))
+        return -1;
+    if (field_anim(y, &f[0], "metric", V_NUMBER, 0.0, &s->m, err) ||
+        field_anim(y, &f[1], "metric", V_NUMBER, 0.0, &s->a, err) ||
+        field_anim(y, &f[2], "metric", V_NUMBER, 0.0, &s->q, err))
+        return -1;
+    return 0;
+}
+
+static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
+                          cr_err *err)
+{
+    enum { R, THETA, PHI, ROLL, PITCH, YAW, HFOV, VFOV, N };
+    cr_yaml_field f[N] = {REQ("r"),   REQ("theta"), REQ("phi"),  OPT("roll"),
+                          OPT("pitch"), OPT("yaw"), REQ("hfov"), OPT("vfov")};
+    const char *p = "observer";
+    if (cr_yaml_fields(y, map, p, key, f, N, err))
+        return -1;
+    if (field_anim(y, &f[R], p, V_NUMBER, 0.0, &s->obs_r, err) ||
+        field_anim(y, &f[THETA], p, V_ANGLE, 0.0, &s->obs_theta, err) ||
+        field_anim(y, &f[PHI], p, V_ANGLE, 0.0, &s->obs_phi, err) ||
+        field_anim(y, &f[ROLL], p, V_ANGLE, 0.0, &s->roll, err) ||
+        field_anim(y, &f[PITCH], p, V_ANGLE, 0.0, &s->pitch, err) ||
+        field_anim(y, &f[YAW], p, V_ANGLE, 0.0, &s->yaw, err) ||
+        field_anim(y, &f[HFOV], p, V_ANGLE, 0.0, &s->hfov, err) ||
+        field_anim(y, &f[VFOV], p, V_ANGLE, 0.0, &s->vfov, err))
+        return -1;
+    s->has_vfov = f[VFOV].value != NULL;
+    return 0;
+}
+
+static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
+                           cr_err *err)
+{
+    enum { COLOR1, COLOR2, RESOLUTION, YAW, RADIUS, N };
+    cr_yaml_field f[N] = {REQ("color1"), OPT("color2"), REQ("resolution"), OPT("yaw"),
+                          REQ("radius")};
+    const char *p = "accretion";
+    yaml_node_t *it[2];
+    char sub[CR_YAML_PATH], sub2[CR_YAML_PATH];
+    cr_rgb c2;
+
+    if (cr_yaml_fields(y, map, p, key, f, N, err))
+        return -1;
+    if (field_rgb(y, &f[COLOR1], p, s->disc_color1, &s->disc_color1, err))
+        return -1;
+    /* (E.4.2) with ERRATA item 3: the complement of color1 */
+    c2.r = (uint8_t)(255 - s->disc_color1.r);
+    c2.g = (uint8_t)(255 - s->disc_color1.g);
+    c2.b = (uint8_t)(255 - s->disc_color1.b);
+    if (field_rgb(y, &f[COLOR2], p, c2, &s->disc_color2, err) ||
+        field_resolution(y, &f[RESOLUTION], p, "a resolution [radial divisions, sectors]",
+                         &s->disc_n_radial, &s->disc_n_sectors, err) ||
+        field_anim(y, &f[YAW], p, V_ANGLE, 0.0, &s->disc_yaw, err))
+        return -1;
+    cr_yaml_path_key(sub, sizeof sub, p, "radius");
+    if (cr_yaml_list(y, f[RADIUS].value, sub, 2,
+                     "radii [inner, outer] (each a number or [linear, start, end])", it, NULL,
+                     err))
+        return -1;
+    cr_yaml_path_index(sub2, sizeof sub2, sub, 0);
+    if (get_anim(y, it[0], sub2, V_NUMBER, &s->disc_r_in, err))
+        return -1;
+    cr_yaml_path_index(sub2, sizeof sub2, sub, 1);
+    if (get_anim(y, it[1], sub2, V_NUMBER, &s->disc_r_out, err))
+        return -1;
+    s->has_disc = 1;
+    return 0;
+}
+
+/* dir + name into a new string (dir may be empty). NULL when out of memory. */
+static char *join_path(const char *dir, size_t dir_len, const char *name)
+{
+    size_t n = strlen(name);
+    char *p = malloc(dir_len + n + 1);
+    if (!p)
+        return NULL;
+    memcpy(p, dir, dir_len);
+    memcpy(p + dir_len, name, n + 1);
+    return p;
+}
+
+/* base: the scene file's folder with its trailing '/', "" for the current
+ * folder. */
+static int parse_skymap(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *base,
+                        cr_scene *s, cr_err *err)
+{
+    enum { IMAGE, BOUNDARY, N };
+    cr_yaml_field f[N] = {REQ("image"), REQ("boundary")};
+    const char *p = "skymap", *image;
+    cr_err perr;
+
+    if (cr_yaml_fields(y, map, p, key, f, N, err) ||
+        cr_yaml_string(y, f[IMAGE].value, "skymap.image", &image, err) ||
+        field_anim(y, &f[BOUNDARY], p, V_NUMBER, 0.0, &s->sky_boundary, err))
+        return -1;
+    s->sky_image = join_path(image[0] == '/' ? "" : base, image[0] == '/' ? 0 : strlen(base),
+                             image);
+    if (!s->sky_image)
+        return cr_yaml_fail(y, f[IMAGE].value, "skymap.image", err, "out of memory");
+    perr.msg[0] = '\0';
+    if (cr_png_read(s->sky_image, SKY_MAX_PIXELS, &s->sky_rgb, &s->sky_width, &s->sky_height,
+                    &perr)) {
+        s->sky_rgb = NULL;
+        return cr_yaml_fail(y, f[IMAGE].value, "skymap.image", err, "%s",
+                            perr.msg[0] ? perr.msg : "cannot read the image");
+    }
+    s->has_sky = 1;
+    return 0;
+}
+
+static int parse_sphere(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *p,
+                        cr_scene_sphere *sp, cr_err *err)
+{
+    enum { COLOR, RESOLUTION, R, THETA, PHI, ROLL, PITCH, YAW, RADIUS, N };
+    cr_yaml_field f[N] = {REQ("color"), REQ("resolution"), REQ("r"),     REQ("theta"),
+                          REQ("phi"),   OPT("roll"),       OPT("pitch"), OPT("yaw"),
+                          REQ("radius")};
+    memset(sp, 0, sizeof *sp);
+    sp->line = (int)(key ? key->start_mark.line : map->start_mark.line) + 1;
+    if (cr_yaml_fields(y, map, p, key, f, N, err))
+        return -1;
+    if (field_rgb(y, &f[COLOR], p, sp->color, &sp->color, err) ||
+        field_resolution(y, &f[RESOLUTION], p, "a resolution [latitude lines, longitude lines]",
+                         &sp->n_lat, &sp->n_lon, err) ||
+        field_anim(y, &f[R], p, V_NUMBER, 0.0, &sp->r, err) ||
+        field_anim(y, &f[THETA], p, V_ANGLE, 0.0, &sp->theta, err) ||
+        field_anim(y, &f[PHI], p, V_ANGLE, 0.0, &sp->phi, err) ||
+        field_anim(y, &f[ROLL], p, V_ANGLE, 0.0, &sp->roll, err) ||
+        field_anim(y, &f[PITCH], p, V_ANGLE, 0.0, &sp->pitch, err) ||
+        field_anim(y, &f[YAW], p, V_ANGLE, 0.0, &sp->yaw, err) ||
+        field_anim(y, &f[RADIUS], p, V_NUMBER, 0.0, &sp->radius, err))
+        return -1;
+    return 0;
+}
+
+/* Room for one more sphere in s->spheres (*cap entries allocated). */
+static int grow_spheres(cr_scene *s, int *cap)
+{
+    cr_scene_sphere *p;
+    int ncap;
+    if (s->n_spheres < *cap)
+        return 0;
+    if (*cap > (1 << 24))
+        return -1;
+    ncap = *cap ? 2 * *cap : 8;
+    p = realloc(s->spheres, (size_t)ncap * sizeof *p);
+    if (!p)
+        return -1;
+    s->spheres = p;
+    *cap = ncap;
+    return 0;
+}
+
+/* Every `sphere:` section and every item of a `spheres:` list, in file
+ * order. */
+static int parse_spheres(cr_yaml *y, yaml_node_t *root, cr_scene *s, cr_err *err)
+{
+    yaml_node_pair_t *pairs;
+    int np, i, j, cap = 0;
+    char p[CR_YAML_PATH];
+
+    if (cr_yaml_mapping(y, root, NULL, &pairs, &np, err))
+        return -1;
+    for (i = 0; i < np; i++) {
+        yaml_node_t *k = cr_yaml_node(y, pairs[i].key), *v = cr_yaml_node(y, pairs[i].value);
+        if (!k || !v)
+            return cr_yaml_fail(y, root, NULL, err, "damaged YAML document");
+        if (cr_yaml_scalar_is(k, "sphere")) {
+            if (grow_spheres(s, &cap))
+                return cr_yaml_fail(y, k, "sphere", err, "out of memory for spheres");
+            cr_yaml_path_index(p, sizeof p, "sphere", s->n_spheres);
+            if (parse_sphere(y, k, v, p, &s->spheres[s->n_spheres], err))
+                return -1;
+            s->n_spheres++;
+        } else if (cr_yaml_scalar_is(k, "spheres")) {
+            int count;
+            if (cr_yaml_list(y, v, "spheres", -1, "a list of spheres", NULL, &count, err))
+                return -1;
+            for (j = 0; j < count; j++) {
+                yaml_node_t *item = cr_yaml_node(y, v->data.sequence.items.start[j]);
+                if (!item)
+                    return cr_yaml_fail(y, v, "spheres", err, "damaged YAML document");
+                if (grow_spheres(s, &cap))
+                    return cr_yaml_fail(y, item, "spheres", err, "out of memory for spheres");
+                cr_yaml_path_index(p, sizeof p, "spheres", j);
+                if (parse_sphere(y, NULL, item, p, &s->spheres[s->n_spheres], err))
+                    return -1;
+                s->n_spheres++;
+            }
+        }
+    }
+    return 0;
+}
+
+/* Parse text into s (zeroed by the caller); base as for parse_skymap. */
+static int parse_scene(const char *text, size_t len, const char *name, const char *base,
+                       cr_scene *s, cr_err *err)
+{
+    enum { METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, N };
+    cr_yaml_field f[N] = {REQ("metric"),    REQ("observer"),      OPT("accretion"),
+                          OPT("skymap"),    MANY("sphere"),       OPT("spheres"),
+                          OPT("sky_color"), OPT("horizon_color"), OPT("error_color")};
+    cr_yaml y;
+    yaml_node_t *root;
+    char got[96];
+
+    if (cr_yaml_load(&y, text, len, name, err))
+        return -1;
+    root = cr_yaml_root(&y);
+    if (!root || cr_yaml_is_null(root)) {
+        cr_err_set(err, "%s: the scene file is empty (it needs at least metric and observer)",
+                   y.name);
+        goto fail;
+    }
+    if (root->type != YAML_MAPPING_NODE) {
+        cr_yaml_describe(root, got, sizeof got);
+        cr_yaml_fail(&y, root, NULL, err,
+                     "a scene must be a mapping of keys (metric, observer, ...), got %s", got);
+        goto fail;
+    }
+    if (cr_yaml_fields(&y, root, NULL, NULL, f, N, err))
+        goto fail;
+    if (parse_metric(&y, f[METRIC].key_node, f[METRIC].value, s, err) ||
+        parse_observer(&y, f[OBSERVER].key_node, f[OBSERVER].value, s, err))
+        goto fail;
+    if (f[ACCRETION].value &&
+        parse_accretion(&y, f[ACCRETION].key_node, f[ACCRETION].value, s, err))
+        goto fail;
+    if (parse_spheres(&y, root, s, err))
+        goto fail;
+    if (field_rgb(&y, &f[SKY], NULL, cr_rgb_make(0, 0, 0), &s->sky_color, err) ||
+        field_rgb(&y, &f[HORIZON], NULL, cr_rgb_make(255, 0, 0), &s->horizon_color, err) ||
+        field_rgb(&y, &f[ERRC], NULL, cr_rgb_make(0, 0, 255), &s->error_color, err))
+        goto fail;
+    /* last: the image is the slow part */
+    if (f[SKYMAP].value &&
+        parse_skymap(&y, f[SKYMAP].key_node, f[SKYMAP].value, base, s, err))
+        goto fail;
+    cr_yaml_free(&y);
+    return 0;
+fail:
+    cr_yaml_free(&y);
+    return -1;
+}
+
+static char *dup_string(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *p = malloc(n);
+    if (p)
+        memcpy(p, s, n);
+    return p;
+}
+
+/* Common part of both loaders. */
+static int scene_load(const char *text, size_t len, const char *name, const char *base,
+                      cr_scene *out, cr_err *err)
+{
+    cr_scene s;
+    memset(&s, 0, sizeof s);
+    memset(out, 0, sizeof *out);
+    s.path = dup_string(name);
+    if (!s.path) {
+        cr_err_set(err, "%s: out of memory", name);
+        goto fail;
+    }
+    if (parse_scene(text, len, name, base, &s, err))
+        goto fail;
+    *out = s;
+    return 0;
+fail:
+    cr_scene_free(&s);
+    return -1;
+}
+
+int cr_scene_load(const char *path, cr_scene *out, cr_err *err)
+{
+    char *text = NULL, *base = NULL;
+    const char *slash;
+    size_t len;
+    int rc = -1;
+
+    memset(out, 0, sizeof *out);
+    if (!path || !path[0])
+        return cr_err_set(err, "no scene file given");
+    if (cr_yaml_read_file(path, (size_t)SCENE_MAX_BYTES, &text, &len, err))
+        return -1;
+    slash = strrchr(path, '/');
+    base = malloc(slash ? (size_t)(slash - path) + 2 : 1);
+    if (!base) {
+        cr_err_set(err, "%s: out of memory", path);
+        goto done;
+    }
+    if (slash) {
+        memcpy(base, path, (size_t)(slash - path) + 1);
+        base[slash - path + 1] = '\0';
+    } else {
+        base[0] = '\0';
+    }
+    rc = scene_load(text, len, path, base, out, err);
+done:
+    free(base);
+    free(text);
+    return rc;
+}
+
+int cr_scene_load_string(const char *text, size_t len, const char *name, cr_scene *out,
+                         cr_err *err)
+{
+    return scene_load(text, len, name ? name : "(scene)", "", out, err);
+}
+
+void cr_scene_free(cr_scene *s)
+{
+    if (!s)
+        return;
+    free(s->path);
+    free(s->sky_image);
+    free(s->sky_rgb);
+    free(s->spheres);
+    memset(s, 0, sizeof *s);
+}
+
+/* ---- one frame ------------------------------------------------------------ */
+
+/* Message "SCENE: frame K of N: ..." (the frame part only when n > 1). */
+static int frame_fail(cr_err *err, const cr_scene *s, int k, int n, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+
+static int frame_fail(cr_err *err, const cr_scene *s, int k, int n, const char *fmt, ...)
+{
+    char what[CR_ERR_MSG];
+    const char *name = s->path ? s->path : "scene";
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    if (n > 1)
+        return cr_err_set(err, "%s: frame %d of %d: %s", name, k, n, what);
+    return cr_err_set(err, "%s: %s", name, what);
+}
+
+#define DEG(x) ((x) * 180.0 / CR_PI)
+
+/* Evaluate v at frame k of n into *out; -1 when that is not finite (start
+ * and end too far apart for doubles). */
+static int eval(cr_anim v, int k, int n, double *out)
+{
+    *out = cr_anim_at(v, k, n);
+    return isfinite(*out) ? 0 : -1;
+}
+
+static int check_fov(const char *key, double v, const cr_scene *s, int k, int n, cr_err *err)
+{
+    if (!(v > 0.0 && v < CR_PI))
+        return frame_fail(err, s, k, n,
+                          "observer.%s = %g deg: a field of view must lie between 0 and 180 deg "
+                          "(both excluded)",
+                          key, DEG(v));
+    return 0;
+}
+
+/* The metric of frame k, checked for a horizon. */
+static int frame_metric(const cr_scene *s, int k, int n, cr_metric *mt, cr_err *err)
+{
+    double ra, rq;
+    int i;
+    if (eval(s->m, k, n, &mt->m) || eval(s->a, k, n, &mt->a) || eval(s->q, k, n, &mt->q))
+        return frame_fail(err, s, k, n, "metric: m, a or q is not a finite number");
+    if (!(mt->m > 0.0))
+        return frame_fail(err, s, k, n, "metric.m = %g: the mass M must be positive", mt->m);
+    ra = mt->a / mt->m;
+    rq = mt->q / mt->m;
+    if (!(ra * ra + rq * rq <= 1.0 + EXTREMAL_TOL))
+        return frame_fail(err, s, k, n,
+                          "metric: a^2 + q^2 = %g exceeds m^2 = %g, so there is no event "
+                          "horizon (a naked singularity); need a^2 + q^2 <= m^2",
+                          mt->a * mt->a + mt->q * mt->q, mt->m * mt->m);
+    /* within the slack of the extremal case: round M up to it */
+    if (mt->m * mt->m - mt->a * mt->a - mt->q * mt->q < 0.0)
+        mt->m = sqrt(mt->a * mt->a + mt->q * mt->q);
+    for (i = 0; i < 8 && mt->m * mt->m - mt->a * mt->a - mt->q * mt->q < 0.0; i++)
+        mt->m = nextafter(mt->m, INFINITY);
+    if (!isfinite(cr_metric_r_plus(mt)))
+        return frame_fail(err, s, k, n, "metric: m = %g, a = %g, q = %g are out of range",
+                          mt->m, mt->a, mt->q);
+    return 0;
+}
+
+static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, int width,
+                          int height, cr_observer *o, cr_err *err)
+{
+    double rp, re;
+    if (eval(s->obs_r, k, n, &o->r) || eval(s->obs_theta, k, n, &o->theta) ||
+        eval(s->obs_phi, k, n, &o->phi) || eval(s->roll, k, n, &o->roll) ||
+        eval(s->pitch, k, n, &o->pitch) || eval(s->yaw, k, n, &o->yaw) ||
+        eval(s->hfov, k, n, &o->hfov) || (s->has_vfov && eval(s->vfov, k, n, &o->vfov)))
+        return frame_fail(err, s, k, n, "observer: a value is not a finite number");
+    if (o->theta < -THETA_TOL || o->theta > CR_PI + THETA_TOL)
+        return frame_fail(err, s, k, n, "observer.theta = %g deg lies outside 0 to 180 deg",
+                          DEG(o->theta));
+    o->theta = fmin(fmax(o->theta, 0.0), CR_PI);
+    rp = cr_metric_r_plus(mt);
+    if (o->r <= rp)
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g is at or inside the event horizon r+ = %g", o->r, rp);
+    re = cr_metric_r_ergo(mt, o->theta);
+    if (o->r <= re || !(cr_metric_minus_gtt(mt, o->r, o->theta) > 0.0))
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g at theta = %g deg is inside the ergosphere "
+                          "(r_E+ = %g): no static observer exists there",
+                          o->r, DEG(o->theta), re);
+    if (check_fov("hfov", o->hfov, s, k, n, err))
+        return -1;
+    if (!s->has_vfov) /* (E.4.1): square pixels */
+        o->vfov = 2.0 * atan(tan(0.5 * o->hfov) * (double)height / (double)width);
+    return check_fov("vfov", o->vfov, s, k, n, err);
+}
+
+static int frame_disc(const cr_scene *s, int k, int n, cr_disc *d, cr_err *err)
+{
+    memset(d, 0, sizeof *d);
+    if (!s->has_disc)
+        return 0;
+    d->enabled = 1;
+    d->color1 = s->disc_color1;
+    d->color2 = s->disc_color2;
+    d->n_radial = s->disc_n_radial;
+    d->n_sectors = s->disc_n_sectors;
+    if (eval(s->disc_yaw, k, n, &d->yaw) || eval(s->disc_r_in, k, n, &d->r_in) ||
+        eval(s->disc_r_out, k, n, &d->r_out))
+        return frame_fail(err, s, k, n, "accretion: a value is not a finite number");
+    if (d->n_radial < 1 || d->n_sectors < 1)
+        return frame_fail(err, s, k, n,
+                          "accretion.resolution = [%d, %d]: both must be at least 1",
+                          d->n_radial, d->n_sectors);
+    if (d->r_in < 0.0)
+        return frame_fail(err, s, k, n, "accretion.radius: the inner radius %g is negative",
+                          d->r_in);
+    if (!(d->r_in < d->r_out))
+        return frame_fail(err, s, k, n,
+                          "accretion.radius: the inner radius %g must be below the outer "
+                          "radius %g",
+                          d->r_in, d->r_out);
+    return 0;
+}
+
+static int frame_sphere(const cr_scene *s, int k, int n, int i, double a, cr_sphere *sp,
+                        cr_err *err)
+{
+    const cr_scene_sphere *ss = &s->spheres[i];
+    memset(sp, 0, sizeof *sp);
+    sp->color = ss->color;
+    sp->n_lat = ss->n_lat;
+    sp->n_lon = ss->n_lon;
+    if (eval(ss->r, k, n, &sp->r) || eval(ss->theta, k, n, &sp->theta) ||
+        eval(ss->phi, k, n, &sp->phi) || eval(ss->roll, k, n, &sp->roll) ||
+        eval(ss->pitch, k, n, &sp->pitch) || eval(ss->yaw, k, n, &sp->yaw) ||
+        eval(ss->radius, k, n, &sp->radius))
+        return frame_fail(err, s, k, n, "sphere %d (line %d): a value is not a finite number", i,
+                          ss->line);
+    if (sp->n_lat < 1 || sp->n_lon < 1)
+        return frame_fail(err, s, k, n,
+                          "sphere %d (line %d): resolution [%d, %d]: both must be at least 1", i,
+                          ss->line, sp->n_lat, sp->n_lon);
+    if (sp->r < 0.0)
+        return frame_fail(err, s, k, n, "sphere %d (line %d): r = %g must not be negative", i,
+                          ss->line, sp->r);
+    if (!(sp->radius > 0.0))
+        return frame_fail(err, s, k, n, "sphere %d (line %d): radius = %g must be positive", i,
+                          ss->line, sp->radius);
+    cr_sphere_prepare(sp, a);
+    return 0;
+}
+
+static int frame_settings(const cr_scene *s, int k, int n, const cr_trace_settings *ts,
+                          cr_frame *f, cr_err *err)
+{
+    cr_trace_settings def;
+    if (!ts) {
+        def.step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
+        def.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
+        def.max_steps = CR_DEFAULT_MAX_STEPS;
+        def.max_turns = CR_DEFAULT_MAX_TURNS;
+        ts = &def;
+    }
+    if (!(ts->step_multiplier > 0.0 && isfinite(ts->step_multiplier)))
+        return frame_fail(err, s, k, n, "raytracer.step_multiplier = %g must be positive",
+                          ts->step_multiplier);
+    if (!(ts->horizon_epsilon > 0.0 && isfinite(ts->horizon_epsilon)))
+        return frame_fail(err, s, k, n, "raytracer.horizon_epsilon = %g must be positive",
+                          ts->horizon_epsilon);
+    if (ts->max_steps < 1)
+        return frame_fail(err, s, k, n, "raytracer.max_steps = %ld must be positive",
+                          ts->max_steps);
+    if (!(ts->max_turns > 0.0))
+        return frame_fail(err, s, k, n, "raytracer.max_turns = %g must be positive",
+                          ts->max_turns);
+    f->step_multiplier = ts->step_multiplier;
+    f->horizon_epsilon = ts->horizon_epsilon;
+    f->max_steps = ts->max_steps;
+    f->max_turns = ts->max_turns;
+    return 0;
+}
+
+int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
+                   const cr_trace_settings *ts, cr_frame *f, cr_sphere *sphere_buf, cr_err *err)
+{
+    int i;
+
+    memset(f, 0, sizeof *f);
+    if (n < 1 || k < 0 || k >= n)
+        return frame_fail(err, s, 0, 1, "frame %d of %d does not exist (frames are 0 to n-1)",
+                          k, n);
+    if (width < 1 || height < 1)
+        return frame_fail(err, s, k, n, "the image size %d x %d must be positive", width,
+                          height);
+    if (s->n_spheres > 0 && !sphere_buf)
+        return frame_fail(err, s, k, n, "no room given for the spheres");
+    if (frame_settings(s, k, n, ts, f, err) || frame_metric(s, k, n, &f->metric, err) ||
+        frame_observer(s, k, n, &f->metric, width, height, &f->observer, err) ||
+        frame_disc(s, k, n, &f->disc, err))
+        return -1;
+    for (i = 0; i < s->n_spheres; i++)
+        if (frame_sphere(s, k, n, i, f->metric.a, &sphere_buf[i], err))
+            return -1;
+    f->spheres = s->n_spheres > 0 ? sphere_buf : NULL;
+    f->n_spheres = s->n_spheres;
+    if (s->has_sky) {
+        if (!s->sky_rgb || s->sky_width < 1 || s->sky_height < 1)
+            return frame_fail(err, s, k, n, "skymap: no sky image is loaded");
+        if (eval(s->sky_boundary, k, n, &f->sky_boundary) || !(f->sky_boundary > 0.0))
+            return frame_fail(err, s, k, n, "skymap.boundary = %g must be positive",
+                              f->sky_boundary);
+        f->sky.rgb = s->sky_rgb;
+        f->sky.width = s->sky_width;
+        f->sky.height = s->sky_height;
+    }
+    f->sky_color = s->sky_color;
+    f->horizon_color = s->horizon_color;
+    f->error_color = s->error_color;
+    f->width = width;
+    f->height = height;
+    cr_frame_prepare(f);
+    if (!isfinite(f->r_max) || !isfinite(f->r_stop) || !(f->obs_sqrt_mgtt > 0.0) ||
+        !isfinite(f->obs_sqrt_mgtt) || !isfinite(f->tan_half_h) || !isfinite(f->tan_half_v))
+        return frame_fail(err, s, k, n,
+                          "the scene's numbers are too large to trace (r_max = %g)", f->r_max);
+    return 0;
+}

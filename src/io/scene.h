@@ -1,0 +1,102 @@
+/* curray io: scene files (appendix E.4) and their evaluation per frame.
+ *
+ * A cr_scene is the parsed file: every number that may be animated is a
+ * cr_anim; cr_scene_frame() turns it into the plain cr_frame of frame k of n
+ * (ERRATA "Animation": value = a + (b - a) k / (n - 1); a single frame takes a).
+ *
+ * Units: lengths in the scene's units of M (geometrized); angles are stored
+ * in radians after unit conversion ("90", "90 deg", "1.570796 rad",
+ * "0.5 pi"; a bare number is degrees). Colours 0..255.
+ */
+#ifndef CR_IO_SCENE_H
+#define CR_IO_SCENE_H
+
+#include <stddef.h>
+
+#include "../core/defs.h"
+#include "error.h"
+
+/* A value that may be animated: [linear, a, b] gives a != b; a plain value
+ * has a == b. */
+typedef struct cr_anim {
+    double a, b;
+} cr_anim;
+
+static inline double cr_anim_at(cr_anim v, int k, int n)
+{
+    return n > 1 ? v.a + (v.b - v.a) * (double)k / (double)(n - 1) : v.a;
+}
+
+typedef struct cr_scene_sphere {
+    cr_rgb color;
+    int n_lat, n_lon;
+    cr_anim r, theta, phi;       /* BL position; angles rad */
+    cr_anim roll, pitch, yaw;    /* rad, default 0 */
+    cr_anim radius;              /* Cartesian radius */
+    int line;                    /* line of its `sphere:` key, for messages */
+} cr_scene_sphere;
+
+typedef struct cr_scene {
+    char *path; /* the file it was read from */
+
+    cr_anim m, a, q; /* metric: required */
+
+    cr_anim obs_r, obs_theta, obs_phi; /* required */
+    cr_anim roll, pitch, yaw;          /* optional, default 0 */
+    cr_anim hfov;                      /* required */
+    cr_anim vfov;                      /* optional: has_vfov == 0 -> from (E.4.1) */
+    int has_vfov;
+
+    int has_disc;
+    cr_rgb disc_color1, disc_color2; /* color2 defaults to (E.4.2) with ERRATA 3 */
+    int disc_n_radial, disc_n_sectors;
+    cr_anim disc_yaw;                /* default 0 */
+    cr_anim disc_r_in, disc_r_out;
+
+    int has_sky;
+    char *sky_image;      /* path as resolved relative to the scene file's folder */
+    cr_anim sky_boundary; /* R of 6.10 */
+    uint8_t *sky_rgb;     /* loaded pixels, width*height*3, row 0 = theta 0 */
+    int sky_width, sky_height;
+
+    cr_scene_sphere *spheres; /* in file order */
+    int n_spheres;
+
+    cr_rgb sky_color;     /* default black */
+    cr_rgb horizon_color; /* default red */
+    cr_rgb error_color;   /* default blue */
+} cr_scene;
+
+/* Read and check a scene file, including loading its sky image. On failure
+ * returns -1 with a message naming the file, line, column and key, and leaves
+ * *out zeroed (nothing to free). */
+int cr_scene_load(const char *path, cr_scene *out, cr_err *err);
+
+/* Same from a string already in memory (name is used in messages; relative
+ * sky image paths resolve against the current directory). */
+int cr_scene_load_string(const char *text, size_t len, const char *name, cr_scene *out,
+                         cr_err *err);
+
+void cr_scene_free(cr_scene *s);
+
+/* Settings that are not part of the scene but enter every frame. */
+typedef struct cr_trace_settings {
+    double step_multiplier;
+    double horizon_epsilon;
+    long max_steps;
+    double max_turns;
+} cr_trace_settings;
+
+/* Evaluate frame k of n (0 <= k < n) at width x height pixels into *f
+ * (spheres written to sphere_buf, which must hold s->n_spheres entries and
+ * outlive f), including cr_frame_prepare. ts == NULL takes the CR_DEFAULT_*
+ * settings of trace.h. Messages name the frame as "frame k of n" (k counted
+ * from 0, like the output files) when n > 1. Returns -1 with a clear message when this frame's values
+ * are physically impossible (ERRATA item 4): no horizon (M <= 0 or
+ * a^2 + Q^2 > M^2), observer at or inside the horizon or inside the
+ * ergosphere, a field of view outside (0, 180) deg, a disc with r_in >= r_out
+ * or r_in < 0, a sphere radius <= 0, ... */
+int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
+                   const cr_trace_settings *ts, cr_frame *f, cr_sphere *sphere_buf, cr_err *err);
+
+#endif

@@ -1,0 +1,195 @@
+/* curray io: the system configuration (appendix E.2), read with the checked
+ * getters of yamlutil.h. */
+#include "sysconfig.h"
+
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/trace.h"
+#include "yamlutil.h"
+
+/* Largest configuration file read (bytes). */
+#define SYSCONFIG_MAX_BYTES (1L << 20)
+
+#define OPT(k) {k, 0, 0, NULL, NULL, 0}
+#define REQ(k) {k, 1, 0, NULL, NULL, 0}
+
+void cr_sysconfig_defaults(cr_sysconfig *c)
+{
+    memset(c, 0, sizeof *c);
+    c->gpu_enabled[0] = 1;
+    c->cpu_threads = 0;
+    c->horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
+    c->step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
+    c->max_steps = CR_DEFAULT_MAX_STEPS;
+    c->max_turns = CR_DEFAULT_MAX_TURNS;
+}
+
+/* A finite number > 0. */
+static int get_positive(cr_yaml *y, const cr_yaml_field *f, const char *section, double *out,
+                        cr_err *err)
+{
+    char path[CR_YAML_PATH], got[96];
+    double v;
+    if (!f->value)
+        return 0;
+    cr_yaml_path_key(path, sizeof path, section, f->key);
+    if (cr_yaml_number(y, f->value, path, &v, err))
+        return -1;
+    if (!(v > 0.0)) {
+        cr_yaml_describe(f->value, got, sizeof got);
+        return cr_yaml_fail(y, f->value, path, err, "expected a positive number, got %s", got);
+    }
+    *out = v;
+    return 0;
+}
+
+static int get_flag(cr_yaml *y, const cr_yaml_field *f, const char *section, int *out,
+                    cr_err *err)
+{
+    char path[CR_YAML_PATH];
+    if (!f->value)
+        return 0;
+    cr_yaml_path_key(path, sizeof path, section, f->key);
+    return cr_yaml_bool(y, f->value, path, out, err);
+}
+
+/* gpus: {<n>: {enabled: bool}, ...}; only the listed devices marked enabled
+ * are used. */
+static int parse_gpus(cr_yaml *y, yaml_node_t *map, cr_sysconfig *c, cr_err *err)
+{
+    yaml_node_pair_t *pairs;
+    yaml_node_t *seen[CR_MAX_GPUS];
+    int np, i;
+    char path[CR_YAML_PATH], what[64];
+
+    memset(seen, 0, sizeof seen);
+    memset(c->gpu_enabled, 0, sizeof c->gpu_enabled);
+    if (cr_yaml_mapping(y, map, "gpus", &pairs, &np, err))
+        return -1;
+    snprintf(what, sizeof what, "a GPU number from 0 to %d", CR_MAX_GPUS - 1);
+    for (i = 0; i < np; i++) {
+        yaml_node_t *k = cr_yaml_node(y, pairs[i].key), *v = cr_yaml_node(y, pairs[i].value);
+        cr_yaml_field f[1] = {REQ("enabled")};
+        long dev;
+        if (!k || !v)
+            return cr_yaml_fail(y, map, "gpus", err, "damaged YAML document");
+        if (cr_yaml_int(y, k, "gpus", 0, CR_MAX_GPUS - 1, what, &dev, err))
+            return -1;
+        snprintf(path, sizeof path, "gpus.%ld", dev);
+        if (seen[dev])
+            return cr_yaml_fail(y, k, path, err,
+                                "duplicate GPU %ld (first given at line %lu, column %lu)", dev,
+                                (unsigned long)seen[dev]->start_mark.line + 1,
+                                (unsigned long)seen[dev]->start_mark.column + 1);
+        seen[dev] = k;
+        if (cr_yaml_fields(y, v, path, k, f, 1, err) ||
+            get_flag(y, &f[0], path, &c->gpu_enabled[dev], err))
+            return -1;
+    }
+    return 0;
+}
+
+static int parse_cpu(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_err *err)
+{
+    cr_yaml_field f[1] = {OPT("threads")};
+    char what[64];
+    long v;
+    if (cr_yaml_fields(y, sec->value, "cpu", sec->key_node, f, 1, err))
+        return -1;
+    if (!f[0].value)
+        return 0;
+    snprintf(what, sizeof what, "a number of threads from 1 to %d", CR_SYSCONFIG_MAX_THREADS);
+    if (cr_yaml_int(y, f[0].value, "cpu.threads", 1, CR_SYSCONFIG_MAX_THREADS, what, &v, err))
+        return -1;
+    c->cpu_threads = (int)v;
+    return 0;
+}
+
+static int parse_raytracer(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_err *err)
+{
+    enum { EPS, MULT, STEPS, TURNS, N };
+    cr_yaml_field f[N] = {OPT("horizon_epsilon"), OPT("step_multiplier"), OPT("max_steps"),
+                          OPT("max_turns")};
+    const char *p = "raytracer";
+    if (cr_yaml_fields(y, sec->value, p, sec->key_node, f, N, err) ||
+        get_positive(y, &f[EPS], p, &c->horizon_epsilon, err) ||
+        get_positive(y, &f[MULT], p, &c->step_multiplier, err) ||
+        get_positive(y, &f[TURNS], p, &c->max_turns, err))
+        return -1;
+    if (f[STEPS].value &&
+        cr_yaml_int(y, f[STEPS].value, "raytracer.max_steps", 1, LONG_MAX, "a positive integer",
+                    &c->max_steps, err))
+        return -1;
+    return 0;
+}
+
+static int parse_log(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_err *err)
+{
+    enum { VERBOSE, QUIET, KEEP, N };
+    cr_yaml_field f[N] = {OPT("verbose"), OPT("quiet"), OPT("keep_log")};
+    const char *p = "log";
+    if (cr_yaml_fields(y, sec->value, p, sec->key_node, f, N, err) ||
+        get_flag(y, &f[VERBOSE], p, &c->verbose, err) ||
+        get_flag(y, &f[QUIET], p, &c->quiet, err) || get_flag(y, &f[KEEP], p, &c->keep_log, err))
+        return -1;
+    return 0;
+}
+
+int cr_sysconfig_load_string(const char *text, size_t len, const char *name, cr_sysconfig *c,
+                             cr_err *err)
+{
+    enum { GPUS, CPU, RAYTRACER, LOG, AUTO, N };
+    cr_yaml_field f[N] = {OPT("gpus"), OPT("cpu"), OPT("raytracer"), OPT("log"),
+                          OPT("auto_accept")};
+    cr_sysconfig tmp;
+    cr_yaml y;
+    yaml_node_t *root;
+    char got[96];
+
+    cr_sysconfig_defaults(&tmp);
+    if (cr_yaml_load(&y, text, len, name ? name : "(config)", err))
+        return -1;
+    root = cr_yaml_root(&y);
+    if (root && !cr_yaml_is_null(root)) {
+        if (root->type != YAML_MAPPING_NODE) {
+            cr_yaml_describe(root, got, sizeof got);
+            cr_yaml_fail(&y, root, NULL, err,
+                         "a configuration must be a mapping of keys (gpus, cpu, raytracer, "
+                         "log, auto_accept), got %s",
+                         got);
+            goto fail;
+        }
+        if (cr_yaml_fields(&y, root, NULL, NULL, f, N, err))
+            goto fail;
+        if (f[GPUS].value && parse_gpus(&y, f[GPUS].value, &tmp, err))
+            goto fail;
+        if ((f[CPU].value && parse_cpu(&y, &f[CPU], &tmp, err)) ||
+            (f[RAYTRACER].value && parse_raytracer(&y, &f[RAYTRACER], &tmp, err)) ||
+            (f[LOG].value && parse_log(&y, &f[LOG], &tmp, err)) ||
+            get_flag(&y, &f[AUTO], NULL, &tmp.auto_accept, err))
+            goto fail;
+    }
+    cr_yaml_free(&y);
+    *c = tmp;
+    return 0;
+fail:
+    cr_yaml_free(&y);
+    return -1;
+}
+
+int cr_sysconfig_load(const char *path, cr_sysconfig *c, cr_err *err)
+{
+    char *text;
+    size_t len;
+    int rc;
+    if (!path || !path[0])
+        return cr_err_set(err, "no configuration file given");
+    if (cr_yaml_read_file(path, (size_t)SYSCONFIG_MAX_BYTES, &text, &len, err))
+        return -1;
+    rc = cr_sysconfig_load_string(text, len, path, c, err);
+    free(text);
+    return rc;
+}

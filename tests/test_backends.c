@@ -1,0 +1,441 @@
+/* The CPU backend is the reference for the GPU backend (DESIGN rule 3).
+ *
+ * One test body renders every case through cr_cpu_render and cr_gpu_render
+ * and compares the images pixel by pixel. Cases: hand-built frames (the
+ * Schwarzschild disc of listing 7.1.1 seen from theta = 85 deg, a Kerr
+ * a = 0.998 disc, a Kerr-Newman scene with spheres and a sky texture, an
+ * observer on the polar axis) and frame 0 of every scene file in scenes/.
+ *
+ * Tolerance: outcome and colour identical for >= 99.9 % of the pixels. Device
+ * code contracts multiply-adds into FMA and its sin/cos/atan2 round
+ * differently from glibc, so a ray that passes within rounding error of an
+ * edge may end on the other side of it: every mismatching pixel must lie on
+ * an edge of the CPU image (a neighbour with another outcome, object or
+ * colour). Where both agree, the redshift must agree to 1e-6 for >= 99.9 %
+ * of the pixels. The first mismatches and the worst differences are printed.
+ *
+ * Without a usable CUDA device (or in a build without CUDA) the test prints
+ * "SKIPPED: no CUDA device (<reason>)" and is reported as skipped. Setting
+ * CURRAY_TEST_BACKENDS_CPU_AS_GPU=1 compares the CPU backend with itself
+ * (one thread against all cores) instead, to exercise this test without a GPU.
+ */
+#include <dirent.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "core/trace.h"
+#include "cpu/render_cpu.h"
+#include "cuda/gpu.h"
+#include "io/scene.h"
+
+#define BK_W 96
+#define BK_H 64
+#define BK_MAX_SPHERES 8
+#define BK_MAX_REPORT 10
+/* allowed fraction of mismatching pixels */
+#define BK_MAX_MISMATCH 0.001
+#define BK_Z_TOL 1e-6
+
+#define BK_DEG (CR_PI / 180.0)
+
+typedef struct bk_case {
+    char name[256];
+    cr_frame f;
+    cr_sphere spheres[BK_MAX_SPHERES];
+    uint8_t *sky; /* owned procedural sky texture, or NULL */
+} bk_case;
+
+/* ---- hand-built frames -------------------------------------------------- */
+
+static cr_rgb bk_rgb(int r, int g, int b)
+{
+    return cr_rgb_make(r, g, b);
+}
+
+/* Common part: metric, observer at (r, theta, phi = 0) with hfov 70 deg and
+ * vfov by (E.4.1), white sky, black horizon, blue errors, default settings. */
+static void bk_base(bk_case *c, const char *name, double m, double a, double q, double r,
+                    double theta)
+{
+    cr_frame *f = &c->f;
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "%s", name);
+    f->metric.m = m;
+    f->metric.a = a;
+    f->metric.q = q;
+    f->observer.r = r;
+    f->observer.theta = theta;
+    f->observer.hfov = 70.0 * BK_DEG;
+    f->observer.vfov = 2.0 * atan(tan(0.5 * f->observer.hfov) * BK_H / BK_W);
+    f->width = BK_W;
+    f->height = BK_H;
+    f->sky_color = bk_rgb(255, 255, 255);
+    f->horizon_color = bk_rgb(0, 0, 0);
+    f->error_color = bk_rgb(0, 0, 255);
+    f->step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
+    f->horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
+    f->max_steps = CR_DEFAULT_MAX_STEPS;
+    f->max_turns = CR_DEFAULT_MAX_TURNS;
+}
+
+/* Disc with color2 = 255 - color1 (E.4.2 with ERRATA 3). */
+static void bk_disc(cr_frame *f, cr_rgb c1, int n_radial, int n_sectors, double r_in,
+                    double r_out)
+{
+    f->disc.enabled = 1;
+    f->disc.color1 = c1;
+    f->disc.color2 = bk_rgb(255 - c1.r, 255 - c1.g, 255 - c1.b);
+    f->disc.n_radial = n_radial;
+    f->disc.n_sectors = n_sectors;
+    f->disc.r_in = r_in;
+    f->disc.r_out = r_out;
+}
+
+static void bk_sphere(bk_case *c, cr_rgb color, int n_lat, int n_lon, double r, double theta,
+                      double phi, double radius, double roll, double pitch, double yaw)
+{
+    cr_sphere *s = &c->spheres[c->f.n_spheres++];
+    memset(s, 0, sizeof *s);
+    s->color = color;
+    s->n_lat = n_lat;
+    s->n_lon = n_lon;
+    s->r = r;
+    s->theta = theta;
+    s->phi = phi;
+    s->radius = radius;
+    s->roll = roll;
+    s->pitch = pitch;
+    s->yaw = yaw;
+    cr_sphere_prepare(s, c->f.metric.a);
+    c->f.spheres = c->spheres;
+}
+
+/* A 64 x 32 equirectangular sky: a colour gradient with a chessboard. */
+static void bk_sky(bk_case *c, double boundary)
+{
+    int w = 64, h = 32, x, y;
+    uint8_t *p = malloc((size_t)3 * w * h);
+    assert_non_null(p);
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            int dark = ((x / 8) + (y / 8)) & 1;
+            p[3 * (y * w + x) + 0] = (uint8_t)(x * 4);
+            p[3 * (y * w + x) + 1] = (uint8_t)(y * 8);
+            p[3 * (y * w + x) + 2] = (uint8_t)(dark ? 40 : 220);
+        }
+    c->sky = p;
+    c->f.sky.rgb = p;
+    c->f.sky.width = w;
+    c->f.sky.height = h;
+    c->f.sky_boundary = boundary;
+}
+
+/* Case k of the hand-built frames; 0 when k is past the last. */
+static int bk_builtin(int k, bk_case *c)
+{
+    switch (k) {
+    case 0: /* listing 7.1.1 at theta = 85 deg (figure 7.1.2) */
+        bk_base(c, "schwarzschild disc, theta 85 deg (listing 7.1.1)", 1.0, 0.0, 0.0, 30.0,
+                85.0 * BK_DEG);
+        bk_disc(&c->f, bk_rgb(0, 255, 0), 2, 12, 6.0, 15.0);
+        break;
+    case 1: /* figure 7.2.2 with a = 0.998: frame dragging, flattened shadow */
+        bk_base(c, "kerr a=0.998 disc, theta 85 deg", 1.0, 0.998, 0.0, 30.0, 85.0 * BK_DEG);
+        bk_disc(&c->f, bk_rgb(0, 255, 0), 4, 24, 2.0, 15.0);
+        break;
+    case 2: /* spheres in front of, beside and behind a Kerr-Newman hole,
+             * with a sky texture */
+        bk_base(c, "kerr-newman spheres + sky texture", 1.0, 0.6, 0.3, 25.0, 80.0 * BK_DEG);
+        bk_sphere(c, bk_rgb(0, 0, 255), 4, 8, 8.0, 90.0 * BK_DEG, 20.0 * BK_DEG, 2.0, 0.0, 0.0,
+                  0.0);
+        bk_sphere(c, bk_rgb(255, 128, 0), 6, 12, 10.0, 60.0 * BK_DEG, -50.0 * BK_DEG, 1.5,
+                  30.0 * BK_DEG, 20.0 * BK_DEG, 10.0 * BK_DEG);
+        bk_sphere(c, bk_rgb(255, 0, 0), 4, 8, 12.0, 90.0 * BK_DEG, 180.0 * BK_DEG, 3.0, 0.0,
+                  0.0, 0.0);
+        bk_sky(c, 40.0);
+        break;
+    case 3: /* observer on the polar axis looking down at a Kerr disc */
+        bk_base(c, "kerr a=0.9 disc, observer on the axis", 1.0, 0.9, 0.0, 20.0, 0.0);
+        bk_disc(&c->f, bk_rgb(255, 255, 0), 3, 16, 3.0, 12.0);
+        break;
+    default:
+        return 0;
+    }
+    cr_frame_prepare(&c->f);
+    return 1;
+}
+
+/* ---- scene files -------------------------------------------------------- */
+
+static int bk_cmp_str(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* Sorted names of the *.yml / *.yaml files in dir; returns the count. */
+static int bk_scene_files(const char *dir, char ***out)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    char **names = NULL;
+    int n = 0;
+    *out = NULL;
+    if (!d)
+        return 0;
+    while ((e = readdir(d)) != NULL) {
+        size_t len = strlen(e->d_name);
+        char **grown;
+        if (!((len > 4 && strcmp(e->d_name + len - 4, ".yml") == 0) ||
+              (len > 5 && strcmp(e->d_name + len - 5, ".yaml") == 0)))
+            continue;
+        grown = realloc(names, sizeof *names * (n + 1));
+        assert_non_null(grown);
+        names = grown;
+        names[n] = strdup(e->d_name);
+        assert_non_null(names[n]);
+        n++;
+    }
+    closedir(d);
+    if (n > 1)
+        qsort(names, n, sizeof *names, bk_cmp_str);
+    *out = names;
+    return n;
+}
+
+/* Frame 0 of the scene file at path into c (the scene must stay loaded while
+ * c is used: the sky texture is the scene's). Returns 0, or -1 after printing
+ * why (then nothing is left to free). */
+static int bk_from_scene(const char *path, const char *name, cr_scene *s, bk_case *c)
+{
+    cr_trace_settings ts;
+    cr_err err;
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "scenes/%s", name);
+    if (cr_scene_load(path, s, &err) != 0) {
+        printf("FAIL %s: cannot load: %s\n", c->name, err.msg);
+        return -1;
+    }
+    if (s->n_spheres > BK_MAX_SPHERES) {
+        printf("FAIL %s: %d spheres, this test handles %d\n", c->name, s->n_spheres,
+               BK_MAX_SPHERES);
+        cr_scene_free(s);
+        return -1;
+    }
+    ts.step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
+    ts.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
+    ts.max_steps = CR_DEFAULT_MAX_STEPS;
+    ts.max_turns = CR_DEFAULT_MAX_TURNS;
+    if (cr_scene_frame(s, 0, 1, BK_W, BK_H, &ts, &c->f, c->spheres, &err) != 0) {
+        printf("FAIL %s: frame 0: %s\n", c->name, err.msg);
+        cr_scene_free(s);
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- the comparison ----------------------------------------------------- */
+
+static int bk_same(const cr_pixel *a, const cr_pixel *b)
+{
+    return a->outcome == b->outcome && a->color.r == b->color.r && a->color.g == b->color.g &&
+           a->color.b == b->color.b;
+}
+
+/* Pixel (i, j) of the reference image has a neighbour (8-neighbourhood) that
+ * ended differently: another outcome, object or colour. */
+static int bk_on_edge(const cr_pixel *img, int w, int h, int i, int j)
+{
+    const cr_pixel *p = &img[(size_t)j * w + i];
+    int di, dj;
+    for (dj = -1; dj <= 1; dj++)
+        for (di = -1; di <= 1; di++) {
+            const cr_pixel *q;
+            if ((di == 0 && dj == 0) || i + di < 0 || i + di >= w || j + dj < 0 || j + dj >= h)
+                continue;
+            q = &img[(size_t)(j + dj) * w + i + di];
+            if (!bk_same(p, q) || p->object != q->object)
+                return 1;
+        }
+    return 0;
+}
+
+static int bk_color_diff(const cr_pixel *a, const cr_pixel *b)
+{
+    int d = abs(a->color.r - b->color.r), e = abs(a->color.g - b->color.g),
+        g = abs(a->color.b - b->color.b);
+    return d > e ? (d > g ? d : g) : (e > g ? e : g);
+}
+
+static void bk_print_pixel(const char *who, const cr_pixel *p)
+{
+    printf("%s outcome %d object %d colour (%d,%d,%d) redshift %.12g steps %u", who,
+           p->outcome, p->object, p->color.r, p->color.g, p->color.b, p->redshift, p->steps);
+}
+
+/* Compare image got against the reference ref of frame f; print a summary,
+ * return the number of failed requirements (0 = pass). */
+static int bk_compare(const char *name, const char *other, const cr_frame *f, const cr_pixel *ref,
+                      const cr_pixel *got)
+{
+    int w = f->width, h = f->height, i, j, failures = 0;
+    long n = (long)w * h, mismatch = 0, off_edge = 0, z_bad = 0, reported = 0;
+    long count[CR_OUT_COUNT_] = {0};
+    double worst_dz = 0.0;
+    int worst_dz_i = -1, worst_dz_j = -1, worst_dc = 0, worst_dc_i = -1, worst_dc_j = -1;
+    long max_bad = (long)floor(BK_MAX_MISMATCH * (double)n);
+
+    for (j = 0; j < h; j++)
+        for (i = 0; i < w; i++) {
+            const cr_pixel *a = &ref[(size_t)j * w + i], *b = &got[(size_t)j * w + i];
+            if (a->outcome < CR_OUT_COUNT_)
+                count[a->outcome]++;
+            if (!bk_same(a, b)) {
+                int edge = bk_on_edge(ref, w, h, i, j), dc = bk_color_diff(a, b);
+                mismatch++;
+                if (!edge)
+                    off_edge++;
+                if (dc > worst_dc) {
+                    worst_dc = dc;
+                    worst_dc_i = i;
+                    worst_dc_j = j;
+                }
+                if (reported++ < BK_MAX_REPORT) {
+                    printf("  mismatch at (%d,%d)%s:\n    ", i, j,
+                           edge ? " on an edge" : " NOT ON AN EDGE");
+                    bk_print_pixel("cpu:", a);
+                    printf("\n    ");
+                    bk_print_pixel(other, b);
+                    printf("\n");
+                }
+            } else {
+                double dz = fabs(a->redshift - b->redshift);
+                if (!(dz <= BK_Z_TOL)) /* also catches NaN */
+                    z_bad++;
+                if (!(dz <= worst_dz)) {
+                    worst_dz = dz;
+                    worst_dz_i = i;
+                    worst_dz_j = j;
+                }
+            }
+        }
+
+    printf("%s: %ld pixels (horizon %ld, disc %ld, sphere %ld, sky %ld, error %ld, limit %ld); "
+           "%ld mismatch%s (%.3f %%, %ld off an edge); worst colour difference %d",
+           name, n, count[CR_OUT_HORIZON], count[CR_OUT_DISC], count[CR_OUT_SPHERE],
+           count[CR_OUT_SKY], count[CR_OUT_ERROR], count[CR_OUT_LIMIT], mismatch,
+           mismatch == 1 ? "" : "es", 100.0 * (double)mismatch / (double)n, off_edge, worst_dc);
+    if (worst_dc_i >= 0)
+        printf(" at (%d,%d)", worst_dc_i, worst_dc_j);
+    printf("; worst redshift difference %.3g", worst_dz);
+    if (worst_dz_i >= 0)
+        printf(" at (%d,%d)", worst_dz_i, worst_dz_j);
+    printf(" (%ld above %g)\n", z_bad, BK_Z_TOL);
+
+    if (mismatch > max_bad) {
+        printf("FAIL %s: %ld mismatching pixels, at most %ld allowed\n", name, mismatch, max_bad);
+        failures++;
+    }
+    if (off_edge > 0) {
+        printf("FAIL %s: %ld mismatching pixels are not on an edge of the CPU image\n", name,
+               off_edge);
+        failures++;
+    }
+    if (z_bad > max_bad) {
+        printf("FAIL %s: %ld pixels differ in redshift by more than %g\n", name, z_bad,
+               BK_Z_TOL);
+        failures++;
+    }
+    return failures;
+}
+
+/* Render case c through the CPU and through the other backend (device >= 0:
+ * that CUDA device; -1: the CPU again with one thread) and compare. */
+static int bk_run_case(const bk_case *c, int device)
+{
+    size_t n = (size_t)c->f.width * c->f.height;
+    cr_pixel *ref = calloc(n, sizeof *ref), *got = calloc(n, sizeof *got);
+    cr_err err;
+    int failures;
+    assert_non_null(ref);
+    assert_non_null(got);
+    if (cr_cpu_render(&c->f, 0, ref, NULL, NULL, NULL, &err) != 0)
+        fail_msg("%s: cr_cpu_render: %s", c->name, err.msg);
+    if (device >= 0) {
+        if (cr_gpu_render(device, &c->f, got, &err) != 0)
+            fail_msg("%s: cr_gpu_render: %s", c->name, err.msg);
+    } else if (cr_cpu_render(&c->f, 1, got, NULL, NULL, NULL, &err) != 0) {
+        fail_msg("%s: cr_cpu_render (1 thread): %s", c->name, err.msg);
+    }
+    failures = bk_compare(c->name, device >= 0 ? "gpu:" : "cpu1:", &c->f, ref, got);
+    free(ref);
+    free(got);
+    return failures;
+}
+
+static void test_cpu_vs_gpu(void **state)
+{
+    cr_err err;
+    const char *self = getenv("CURRAY_TEST_BACKENDS_CPU_AS_GPU");
+    int device = -1, failures = 0, n_cases = 0, k, n_files;
+    char **files;
+    bk_case *c;
+    (void)state;
+
+    if (self && strcmp(self, "1") == 0) {
+        printf("CURRAY_TEST_BACKENDS_CPU_AS_GPU=1: comparing the CPU backend with itself\n");
+    } else {
+        int count = cr_gpu_count(&err);
+        if (count <= 0) {
+            printf("SKIPPED: no CUDA device (%s)\n", err.msg);
+            fflush(stdout);
+            skip();
+        }
+        for (device = 0; device < 64; device++)
+            if (cr_gpu_usable(device, NULL))
+                break;
+        assert_true(device < 64);
+        printf("comparing the CPU backend with CUDA device #%d\n", device);
+    }
+
+    c = malloc(sizeof *c);
+    assert_non_null(c);
+    for (k = 0; bk_builtin(k, c); k++) {
+        failures += bk_run_case(c, device);
+        free(c->sky);
+        n_cases++;
+    }
+
+    n_files = bk_scene_files(CR_SOURCE_DIR "/scenes", &files);
+    for (k = 0; k < n_files; k++) {
+        char path[4096];
+        cr_scene s;
+        snprintf(path, sizeof path, "%s/scenes/%s", CR_SOURCE_DIR, files[k]);
+        if (bk_from_scene(path, files[k], &s, c) == 0) {
+            failures += bk_run_case(c, device);
+            cr_scene_free(&s);
+        } else {
+            failures++;
+        }
+        free(files[k]);
+        n_cases++;
+    }
+    free(files);
+    free(c);
+    printf("%d cases, %d failed requirement%s\n", n_cases, failures, failures == 1 ? "" : "s");
+    assert_int_equal(failures, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_cpu_vs_gpu),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

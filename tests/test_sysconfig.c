@@ -1,0 +1,300 @@
+/* The system configuration (appendix E.2).
+ *
+ * - built-in defaults (CR_DEFAULT_* of trace.h), for no file content at all;
+ * - listing E.1 as a file; every key; the gpus rule (no section: device 0;
+ *   a section: only the listed enabled devices); booleans in every spelling;
+ * - every error path names the file, line:col and key, and leaves the
+ *   configuration unchanged.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "core/trace.h"
+#include "io/sysconfig.h"
+
+#define DATA CR_SOURCE_DIR "/tests/data/"
+#define NAME "config.yml"
+
+#define assert_contains(hay, needle)                                                            \
+    do {                                                                                        \
+        if (!strstr((hay), (needle)))                                                           \
+            fail_msg("message \"%s\"\n  does not contain \"%s\"", (hay), (needle));             \
+    } while (0)
+
+static int load(const char *text, cr_sysconfig *c, cr_err *e)
+{
+    e->msg[0] = '\0';
+    return cr_sysconfig_load_string(text, strlen(text), NAME, c, e);
+}
+
+static void load_ok(const char *text, cr_sysconfig *c)
+{
+    cr_err e;
+    if (load(text, c, &e) != 0)
+        fail_msg("load failed: %s\n--- text:\n%s", e.msg, text);
+}
+
+static void assert_defaults(const cr_sysconfig *c)
+{
+    int i;
+    assert_int_equal(c->gpu_enabled[0], 1);
+    for (i = 1; i < CR_MAX_GPUS; i++)
+        assert_int_equal(c->gpu_enabled[i], 0);
+    assert_int_equal(c->cpu_threads, 0);
+    assert_true(c->horizon_epsilon == CR_DEFAULT_HORIZON_EPSILON);
+    assert_true(c->step_multiplier == CR_DEFAULT_STEP_MULTIPLIER);
+    assert_true(c->max_steps == CR_DEFAULT_MAX_STEPS);
+    assert_true(c->max_turns == CR_DEFAULT_MAX_TURNS);
+    assert_int_equal(c->verbose, 0);
+    assert_int_equal(c->quiet, 0);
+    assert_int_equal(c->keep_log, 0);
+    assert_int_equal(c->auto_accept, 0);
+}
+
+static void test_defaults(void **state)
+{
+    static const char *empties[] = {"", "# nothing here\n", "---\n", "---\n...\n", "~\n",
+                                    "{}\n"};
+    cr_sysconfig c;
+    size_t i;
+    (void)state;
+    cr_sysconfig_defaults(&c);
+    assert_defaults(&c);
+    assert_true(c.horizon_epsilon == 0.5e-2);
+    assert_true(c.step_multiplier == 1.0 / 32.0);
+    for (i = 0; i < sizeof empties / sizeof empties[0]; i++) {
+        memset(&c, 0x5a, sizeof c);
+        load_ok(empties[i], &c);
+        assert_defaults(&c);
+    }
+}
+
+static void test_listing_e1(void **state)
+{
+    cr_sysconfig c;
+    cr_err e;
+    (void)state;
+    memset(&c, 0x5a, sizeof c);
+    if (cr_sysconfig_load(DATA "config_e1.yml", &c, &e))
+        fail_msg("%s", e.msg);
+    assert_int_equal(c.gpu_enabled[0], 1);
+    assert_int_equal(c.gpu_enabled[1], 0);
+    assert_int_equal(c.gpu_enabled[2], 0);
+    assert_int_equal(c.cpu_threads, 4);
+    assert_true(c.horizon_epsilon == 0.5e-2);
+    assert_true(c.step_multiplier == 0.03125);
+    assert_true(c.max_steps == CR_DEFAULT_MAX_STEPS);
+    assert_true(c.max_turns == CR_DEFAULT_MAX_TURNS);
+    assert_int_equal(c.verbose, 0);
+    assert_int_equal(c.quiet, 0);
+    assert_int_equal(c.keep_log, 0);
+    assert_int_equal(c.auto_accept, 0);
+}
+
+static void test_every_key(void **state)
+{
+    cr_sysconfig c;
+    int i;
+    (void)state;
+    load_ok("gpus:\n"
+            "  1:\n"
+            "    enabled: true\n"
+            "  3: {enabled: yes}\n"
+            "  0: {enabled: false}\n"
+            "  63:\n"
+            "    enabled: on\n"
+            "  5: {enabled: off}\n"
+            "cpu:\n"
+            "  threads: 12\n"
+            "raytracer:\n"
+            "  horizon_epsilon: 1e-3\n"
+            "  step_multiplier: 0.0625\n"
+            "  max_steps: 5000\n"
+            "  max_turns: 2.5\n"
+            "log:\n"
+            "  verbose: True\n"
+            "  quiet: NO\n"
+            "  keep_log: On\n"
+            "auto_accept: YES\n",
+            &c);
+    for (i = 0; i < CR_MAX_GPUS; i++)
+        assert_int_equal(c.gpu_enabled[i], i == 1 || i == 3 || i == 63);
+    assert_int_equal(c.cpu_threads, 12);
+    assert_true(c.horizon_epsilon == 1e-3);
+    assert_true(c.step_multiplier == 0.0625);
+    assert_true(c.max_steps == 5000);
+    assert_true(c.max_turns == 2.5);
+    assert_int_equal(c.verbose, 1);
+    assert_int_equal(c.quiet, 0);
+    assert_int_equal(c.keep_log, 1);
+    assert_int_equal(c.auto_accept, 1);
+}
+
+static void test_gpus_rule(void **state)
+{
+    cr_sysconfig c;
+    int i;
+    (void)state;
+    /* no gpus section: device 0 */
+    load_ok("cpu: {threads: 2}\n", &c);
+    assert_int_equal(c.gpu_enabled[0], 1);
+    assert_int_equal(c.gpu_enabled[1], 0);
+    /* a section: only the listed enabled ones */
+    load_ok("gpus: {1: {enabled: true}}\n", &c);
+    assert_int_equal(c.gpu_enabled[0], 0);
+    assert_int_equal(c.gpu_enabled[1], 1);
+    /* an empty section: none */
+    load_ok("gpus: {}\n", &c);
+    for (i = 0; i < CR_MAX_GPUS; i++)
+        assert_int_equal(c.gpu_enabled[i], 0);
+    load_ok("gpus:\n", &c);
+    for (i = 0; i < CR_MAX_GPUS; i++)
+        assert_int_equal(c.gpu_enabled[i], 0);
+}
+
+static void test_booleans(void **state)
+{
+    static const struct {
+        const char *text;
+        int value;
+    } cases[] = {{"true", 1}, {"True", 1}, {"TRUE", 1}, {"yes", 1},     {"Yes", 1},
+                 {"on", 1},   {"ON", 1},   {"false", 0}, {"False", 0}, {"no", 0},
+                 {"NO", 0},   {"off", 0},  {"Off", 0},   {"\"true\"", 1}};
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char text[128];
+        cr_sysconfig c;
+        snprintf(text, sizeof text, "auto_accept: %s\nlog: {quiet: %s}\n", cases[i].text,
+                 cases[i].text);
+        load_ok(text, &c);
+        assert_int_equal(c.auto_accept, cases[i].value);
+        assert_int_equal(c.quiet, cases[i].value);
+    }
+}
+
+typedef struct err_case {
+    const char *text;
+    const char *start;
+    const char *part;
+} err_case;
+
+static void test_errors(void **state)
+{
+    static const err_case cases[] = {
+        {"cpu:\n  threads: 0\n", "config.yml:2:12: cpu.threads: ",
+         "expected a number of threads from 1 to 4096, got \"0\""},
+        {"cpu:\n  threads: -2\n", "config.yml:2:12: cpu.threads: ", "got \"-2\""},
+        {"cpu:\n  threads: 2.5\n", "config.yml:2:12: cpu.threads: ", "got \"2.5\""},
+        {"cpu:\n  threads: 100000\n", "config.yml:2:12: cpu.threads: ", "from 1 to 4096"},
+        {"cpu:\n  threads: [1]\n", "config.yml:2:12: cpu.threads: ", "got a list of 1 item"},
+        {"cpu:\n  cores: 4\n", "config.yml:2:3: unknown key 'cores' in cpu",
+         "(expected one of: threads)"},
+        {"cpu: 4\n", "config.yml:1:6: cpu: ", "expected a mapping of keys, got \"4\""},
+        {"raytracer:\n  horizon_epsilon: 0\n", "config.yml:2:20: raytracer.horizon_epsilon: ",
+         "expected a positive number, got \"0\""},
+        {"raytracer:\n  horizon_epsilon: -1e-3\n", "config.yml:2:20: raytracer.horizon_epsilon: ",
+         "positive"},
+        {"raytracer:\n  horizon_epsilon: .inf\n", "config.yml:2:20: raytracer.horizon_epsilon: ",
+         "expected a finite number, got \".inf\""},
+        {"raytracer:\n  step_multiplier: nan\n", "config.yml:2:20: raytracer.step_multiplier: ",
+         "expected a finite number"},
+        {"raytracer:\n  step_multiplier: 1e999\n", "config.yml:2:20: raytracer.step_multiplier: ",
+         "expected a finite number"},
+        {"raytracer:\n  step_multiplier: small\n",
+         "config.yml:2:20: raytracer.step_multiplier: ", "expected a number, got \"small\""},
+        {"raytracer:\n  step_multiplier: 1 deg\n",
+         "config.yml:2:20: raytracer.step_multiplier: ", "without a unit"},
+        {"raytracer:\n  max_steps: 0\n", "config.yml:2:14: raytracer.max_steps: ",
+         "expected a positive integer, got \"0\""},
+        {"raytracer:\n  max_steps: 1.5e5\n", "config.yml:2:14: raytracer.max_steps: ",
+         "expected a positive integer"},
+        {"raytracer:\n  max_steps: 99999999999999999999999\n",
+         "config.yml:2:14: raytracer.max_steps: ", "expected a positive integer"},
+        {"raytracer:\n  max_turns: 0\n", "config.yml:2:14: raytracer.max_turns: ",
+         "expected a positive number"},
+        {"raytracer:\n  max_turn: 5\n", "config.yml:2:3: unknown key 'max_turn' in raytracer",
+         "(expected one of: horizon_epsilon, step_multiplier, max_steps, max_turns)"},
+        {"log:\n  verbose: maybe\n", "config.yml:2:12: log.verbose: ",
+         "expected true or false (or yes/no, on/off), got \"maybe\""},
+        {"log:\n  verbose: 1\n", "config.yml:2:12: log.verbose: ", "expected true or false"},
+        {"log:\n  verbose:\n", "config.yml:2:", "log.verbose: expected true or false (or yes/no, on/off), got nothing"},
+        {"log:\n  loud: true\n", "config.yml:2:3: unknown key 'loud' in log",
+         "(expected one of: verbose, quiet, keep_log)"},
+        {"auto_accept: sure\n", "config.yml:1:14: auto_accept: ", "got \"sure\""},
+        {"auto_accept: true\nauto_accept: false\n", "config.yml:2:1: auto_accept: ",
+         "duplicate key 'auto_accept' (first given at line 1, column 1)"},
+        {"raytrace:\n  max_steps: 5\n", "config.yml:1:1: unknown key 'raytrace' at the top level",
+         "(expected one of: gpus, cpu, raytracer, log, auto_accept)"},
+        {"gpus:\n  64:\n    enabled: true\n", "config.yml:2:3: gpus: ",
+         "expected a GPU number from 0 to 63, got \"64\""},
+        {"gpus:\n  first:\n    enabled: true\n", "config.yml:2:3: gpus: ",
+         "expected a GPU number from 0 to 63, got \"first\""},
+        {"gpus:\n  -1: {enabled: true}\n", "config.yml:2:3: gpus: ", "got \"-1\""},
+        {"gpus:\n  0: {enabled: true}\n  00: {enabled: false}\n", "config.yml:3:3: gpus.0: ",
+         "duplicate GPU 0 (first given at line 2, column 3)"},
+        {"gpus:\n  0:\n    enable: true\n", "config.yml:3:5: unknown key 'enable' in gpus.0",
+         "(expected one of: enabled)"},
+        {"gpus:\n  0: {}\n", "config.yml:2:3: gpus.0: missing required key 'enabled'", ""},
+        {"gpus:\n  0:\n", "config.yml:2:3: gpus.0: missing required key 'enabled'", ""},
+        {"gpus:\n  0: {enabled: 2}\n", "config.yml:2:16: gpus.0.enabled: ",
+         "expected true or false"},
+        {"gpus: [0, 1]\n", "config.yml:1:7: gpus: ", "expected a mapping of keys"},
+        {"- gpus\n", "config.yml:1:1: a configuration must be a mapping of keys",
+         "got a list of 1 item"},
+        {"cpu:\n  threads: 4\n threads: 5\n", "config.yml:3:", "YAML syntax error"},
+        {"cpu: {threads: 4\n", "config.yml:", "YAML syntax error"},
+        {"cpu:\n\tthreads: 4\n", "config.yml:2:1: YAML syntax error: ", ""},
+        {"log: {}\n---\nlog: {}\n", "config.yml:3:1: a second YAML document", ""},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        cr_sysconfig c, before;
+        cr_err e;
+        memset(&c, 0x5a, sizeof c);
+        before = c;
+        if (load(cases[i].text, &c, &e) == 0)
+            fail_msg("case %zu accepted, expected \"%s%s\"\n--- text:\n%s", i, cases[i].start,
+                     cases[i].part, cases[i].text);
+        if (strncmp(e.msg, cases[i].start, strlen(cases[i].start)) != 0 ||
+            !strstr(e.msg, cases[i].part))
+            fail_msg("case %zu: message\n  \"%s\"\nexpected to start with \"%s\" and contain "
+                     "\"%s\"\n--- text:\n%s",
+                     i, e.msg, cases[i].start, cases[i].part, cases[i].text);
+        /* unchanged on failure */
+        assert_memory_equal(&c, &before, sizeof c);
+    }
+}
+
+static void test_errors_files(void **state)
+{
+    cr_sysconfig c;
+    cr_err e;
+    (void)state;
+    cr_sysconfig_defaults(&c);
+    assert_int_equal(cr_sysconfig_load(DATA "no_such_config.yml", &c, &e), -1);
+    assert_string_equal(e.msg, DATA "no_such_config.yml: cannot open: No such file or directory");
+    assert_int_equal(cr_sysconfig_load(DATA "config_bad.yml", &c, &e), -1);
+    assert_string_equal(e.msg, DATA "config_bad.yml:2:12: cpu.threads: expected a number of "
+                                    "threads from 1 to 4096, got \"many\"");
+    assert_defaults(&c);
+    assert_int_equal(cr_sysconfig_load(DATA, &c, &e), -1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_defaults),    cmocka_unit_test(test_listing_e1),
+        cmocka_unit_test(test_every_key),   cmocka_unit_test(test_gpus_rule),
+        cmocka_unit_test(test_booleans),    cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_errors_files),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
