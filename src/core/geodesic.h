@@ -177,13 +177,19 @@ CR_HD static inline double cr_geo_carter(const cr_geo *g, const double *y)
 
 /* Set g->th_floor from the ray's constants: near the axis (cos^2 ~ 1) the
  * theta turning point has sin^2(theta_min) ~ L^2 / (K + L^2 + a^2 E^2) with K
- * the Carter constant; never below 1e-8 rad, so rays with L = 0, which pass
- * straight through the axis, are not slowed without bound. */
+ * the Carter constant; never below 1e-8 rad. A ray with L = 0 exactly has no
+ * u^phi spike and passes straight through the axis, where the equations are
+ * analytic: the axis term is not needed (th_floor = pi/2, it never binds). */
 CR_HD static inline void cr_geo_set_floor(cr_geo *g, const double *y)
 {
-    double K = cr_geo_carter(g, y);
-    double den = K + g->L * g->L + g->mt.a * g->mt.a * g->E * g->E;
-    double sm = den > 0.0 ? fabs(g->L) / sqrt(den) : 1.0;
+    double K, den, sm;
+    if (g->L == 0.0) {
+        g->th_floor = 0.5 * CR_PI;
+        return;
+    }
+    K = cr_geo_carter(g, y);
+    den = K + g->L * g->L + g->mt.a * g->mt.a * g->E * g->E;
+    sm = den > 0.0 ? fabs(g->L) / sqrt(den) : 1.0;
     g->th_floor = sm >= 1.0 ? 0.5 * CR_PI : asin(sm);
     if (g->th_floor < 1e-8)
         g->th_floor = 1e-8;
