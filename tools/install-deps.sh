@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Install the Debian packages curray needs to build and test, when missing.
 # Usage: tools/install-deps.sh [extra-package ...]
+# (.ci/run adds clang, libclang-rt-<N>-dev and valgrind for its sanitizer,
+# fuzzing and valgrind checks.)
 set -euo pipefail
 pkgs=(cmake make gcc pkg-config libyaml-dev libpng-dev zlib1g-dev libcmocka-dev "$@")
 missing=()

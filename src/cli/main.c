@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -118,14 +119,29 @@ static int cr_write_info(cr_run *run, cr_err *err)
     return rc;
 }
 
+/* Remove the files of frame k already written, types among "crd": a frame
+ * that fails part-way (a full disk) leaves no file. */
+static void cr_remove_frame_files(const cr_run *run, int k, const char *types)
+{
+    char name[64], path[4096];
+    for (; *types; types++) {
+        snprintf(name, sizeof name, "%c_%d.%s", *types, k, *types == 'd' ? "csv" : "png");
+        if (cr_path_join(path, sizeof path, run->cli.output_dir, name) == 0)
+            unlink(path);
+    }
+}
+
 /* Render and write one frame. Returns 0, or -1 with err set (err->msg is
- * "interrupted" after Ctrl-C). */
+ * "interrupted" after Ctrl-C); a frame that fails leaves none of its files,
+ * and info.txt lists only the frames whose files are all written. */
 static int cr_do_frame(cr_worker *w, int k, cr_pixel *px, cr_sphere *spheres, cr_err *err)
 {
     cr_run *run = w->run;
     cr_frame f;
     cr_frame_stats st;
     double t0;
+    char written[4] = "";
+    int n_written = 0, rc;
     if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
                        (int)run->cli.height, &run->ts, &f, spheres, err))
         return -1;
@@ -140,21 +156,31 @@ static int cr_do_frame(cr_worker *w, int k, cr_pixel *px, cr_sphere *spheres, cr
     }
     cr_frame_stats_compute(px, (long long)f.width * f.height, cr_now() - t0, &st);
     st.frame = k;
-    if (cr_has_type(run, 'c') &&
-        cr_output_color_png(run->cli.output_dir, k, px, f.width, f.height, err))
-        return -1;
-    if (cr_has_type(run, 'r') &&
-        cr_output_redshift_png(run->cli.output_dir, k, px, f.width, f.height, err))
-        return -1;
-    if (cr_has_type(run, 'd') && cr_output_csv(run->cli.output_dir, k, px, f.width, f.height, err))
-        return -1;
+    if (cr_has_type(run, 'c')) {
+        if (cr_output_color_png(run->cli.output_dir, k, px, f.width, f.height, err))
+            goto fail;
+        written[n_written++] = 'c';
+    }
+    if (cr_has_type(run, 'r')) {
+        if (cr_output_redshift_png(run->cli.output_dir, k, px, f.width, f.height, err))
+            goto fail;
+        written[n_written++] = 'r';
+    }
+    if (cr_has_type(run, 'd')) {
+        if (cr_output_csv(run->cli.output_dir, k, px, f.width, f.height, err))
+            goto fail;
+        written[n_written++] = 'd';
+    }
 
     pthread_mutex_lock(&run->lock);
     run->stats[k] = st;
     run->done[k] = 1;
     run->n_done++;
-    {
-        int rc = cr_write_info(run, err);
+    rc = cr_write_info(run, err);
+    if (rc) {
+        run->done[k] = 0;
+        run->n_done--;
+    } else {
         long long rays = st.rays > 0 ? st.rays : 1;
         char where[32] = "";
         if (w->device >= 0)
@@ -167,9 +193,13 @@ static int cr_do_frame(cr_worker *w, int k, cr_pixel *px, cr_sphere *spheres, cr
                     (double)st.steps / (double)rays, st.counts[CR_OUT_HORIZON],
                     st.counts[CR_OUT_DISC], st.counts[CR_OUT_SPHERE], st.counts[CR_OUT_SKY],
                     st.counts[CR_OUT_ERROR], st.counts[CR_OUT_LIMIT]);
-        pthread_mutex_unlock(&run->lock);
-        return rc;
     }
+    pthread_mutex_unlock(&run->lock);
+    if (rc == 0)
+        return 0;
+fail:
+    cr_remove_frame_files(run, k, written);
+    return -1;
 }
 
 static void *cr_worker_main(void *arg)
@@ -251,6 +281,39 @@ static void cr_log_scene(cr_run *run)
                   run->ts.max_turns, run->threads);
 }
 
+/* Refuse, before anything large is allocated, a run whose buffers cannot fit
+ * in memory: per worker a frame of cr_pixel, plus the 8-bit image written
+ * from it and the per-frame statistics. The limit is the physical memory, or
+ * the address-space or data limit (ulimit -v, -d) when lower. */
+static int cr_check_memory(const cr_run *run, int n_workers, cr_err *err)
+{
+    const double gib = 1024.0 * 1024.0 * 1024.0;
+    double px = (double)run->cli.width * (double)run->cli.height;
+    double need = px * ((double)sizeof(cr_pixel) * n_workers + 3.0) +
+                  (double)run->cli.frames * (double)(sizeof(cr_frame_stats) + 1);
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    double have = pages > 0 && page > 0 ? (double)pages * (double)page : 0.0;
+    const char *what = "the machine's memory";
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+        (have <= 0.0 || (double)rl.rlim_cur < have)) {
+        have = (double)rl.rlim_cur;
+        what = "the address-space limit (ulimit -v)";
+    }
+    if (getrlimit(RLIMIT_DATA, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+        (have <= 0.0 || (double)rl.rlim_cur < have)) {
+        have = (double)rl.rlim_cur;
+        what = "the data-size limit (ulimit -d)";
+    }
+    if (have > 0.0 && need > have)
+        return cr_err_set(err,
+                          "a %ldx%ld frame (%ld frame%s) needs about %.2f GiB of memory, more "
+                          "than the %.2f GiB of %s; choose a smaller -x/-y",
+                          run->cli.width, run->cli.height, run->cli.frames,
+                          run->cli.frames > 1 ? "s" : "", need / gib, have / gib, what);
+    return 0;
+}
+
 static int cr_prog_is_cpu(const char *argv0)
 {
     const char *base = strrchr(argv0, '/');
@@ -270,6 +333,9 @@ int main(int argc, char **argv)
 
     memset(&run, 0, sizeof run);
     err.msg[0] = '\0';
+    /* A reader that goes away (curray ... | head) must not kill a render
+     * half-way: console writes then just fail. */
+    signal(SIGPIPE, SIG_IGN);
     if (cr_cli_parse(argc, argv, cr_prog_is_cpu(argv[0]), &run.cli, &err)) {
         fprintf(stderr, "curray: %s\n", err.msg);
         return CR_EXIT_USAGE;
@@ -300,7 +366,7 @@ int main(int argc, char **argv)
         if (!run.cli.config_path)
             run.cli.config_path = "config.yml";
         if (cr_sysconfig_load(run.cli.config_path, &run.cfg, &err)) {
-            fprintf(stderr, "curray: %s\n", err.msg);
+            fprintf(stderr, "curray: configuration file %s\n", err.msg);
             return CR_EXIT_ERROR;
         }
     }
@@ -349,8 +415,12 @@ int main(int argc, char **argv)
         snprintf(backend_name, sizeof backend_name, "cpu (%d thread%s)", run.threads,
                  run.threads > 1 ? "s" : "");
 
-    if (cr_scene_load(run.cli.scene_path, &run.scene, &err)) {
+    if (cr_check_memory(&run, run.use_cuda ? n_workers : 1, &err)) {
         cr_log_error(&run.log, "curray: %s", err.msg);
+        goto done;
+    }
+    if (cr_scene_load(run.cli.scene_path, &run.scene, &err)) {
+        cr_log_error(&run.log, "curray: scene file %s", err.msg);
         goto done;
     }
     /* every frame must be possible before any is rendered */
@@ -367,7 +437,7 @@ int main(int argc, char **argv)
                 break;
         free(tmp);
         if (k < run.cli.frames) {
-            cr_log_error(&run.log, "curray: %s", err.msg);
+            cr_log_error(&run.log, "curray: scene file %s", err.msg);
             goto done;
         }
     }

@@ -147,6 +147,17 @@ int cr_png_write(const char *path, int w, int h, const uint8_t *rgb, cr_err *err
     return cr_png_write_level(path, w, h, rgb, 6, err);
 }
 
+/* The refusal of an image larger than max_pixels, naming its size. */
+static int cr_png_too_large(cr_err *err, const char *path, unsigned long w, unsigned long h,
+                            long long max_pixels)
+{
+    unsigned long long px = (unsigned long long)w * h;
+    return cr_err_set(err,
+                      "cannot read PNG '%s': the image is %lu x %lu = %llu pixels (%llu bytes as "
+                      "8-bit RGB), more than the limit of %lld pixels",
+                      path, w, h, px, px * 3ull, max_pixels);
+}
+
 /* Decode after the signature check: ctx->fp is positioned after 8 bytes.
  * As for writing, ctx belongs to the caller, away from the setjmp. */
 static int cr_png_read_body(cr_png_ctx *ctx, const char *path, long long max_pixels,
@@ -180,11 +191,7 @@ static int cr_png_read_body(cr_png_ctx *ctx, const char *path, long long max_pix
 
     /* The size check comes before any allocation of pixel memory. */
     if (max_pixels > 0 && (unsigned long long)w * h > (unsigned long long)max_pixels) {
-        unsigned long long px = (unsigned long long)w * h;
-        cr_err_set(err,
-                   "cannot read PNG '%s': the image is %lu x %lu = %llu pixels (%llu bytes as "
-                   "8-bit RGB), more than the limit of %lld pixels",
-                   path, (unsigned long)w, (unsigned long)h, px, px * 3ull, max_pixels);
+        cr_png_too_large(err, path, (unsigned long)w, (unsigned long)h, max_pixels);
         goto fail;
     }
     if (w > 0x7fffffffu || h > 0x7fffffffu) {
@@ -258,9 +265,33 @@ fail:
     return -1;
 }
 
+/* Width and height from the IHDR chunk that must follow the signature (PNG
+ * 11.2.2), read directly so that an absurd size is refused even when the
+ * file holds nothing else (libpng reads on to the first IDAT before it hands
+ * the header over). fp is positioned after the signature and is put back
+ * there. Returns 0, or -1 when the header cannot be read this way (libpng
+ * then reports what is wrong). */
+static int cr_png_peek_size(FILE *fp, unsigned long *w, unsigned long *h)
+{
+    unsigned char b[16];
+    long pos = ftell(fp);
+    size_t got;
+    if (pos < 0)
+        return -1; /* not seekable: a pipe */
+    got = fread(b, 1, sizeof b, fp);
+    if (fseek(fp, pos, SEEK_SET) != 0 || got != sizeof b || memcmp(b + 4, "IHDR", 4) != 0)
+        return -1;
+    *w = (unsigned long)b[8] << 24 | (unsigned long)b[9] << 16 | (unsigned long)b[10] << 8 |
+         b[11];
+    *h = (unsigned long)b[12] << 24 | (unsigned long)b[13] << 16 | (unsigned long)b[14] << 8 |
+         b[15];
+    return 0;
+}
+
 int cr_png_read(const char *path, long long max_pixels, uint8_t **rgb, int *w, int *h,
                 cr_err *err)
 {
+    unsigned long pw, ph;
     unsigned char sig[8];
     cr_png_ctx ctx;
     size_t got;
@@ -282,6 +313,11 @@ int cr_png_read(const char *path, long long max_pixels, uint8_t **rgb, int *w, i
         fclose(fp);
         return cr_err_set(err, "cannot read PNG '%s': not a PNG file (wrong signature%s)", path,
                           got == 0 ? ", the file is empty" : "");
+    }
+    if (max_pixels > 0 && cr_png_peek_size(fp, &pw, &ph) == 0 &&
+        (unsigned long long)pw * ph > (unsigned long long)max_pixels) {
+        fclose(fp);
+        return cr_png_too_large(err, path, pw, ph, max_pixels);
     }
     memset(&ctx, 0, sizeof ctx);
     ctx.fp = fp;

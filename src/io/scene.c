@@ -552,7 +552,7 @@ static int frame_metric(const cr_scene *s, int k, int n, cr_metric *mt, cr_err *
 static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, int width,
                           int height, cr_observer *o, cr_err *err)
 {
-    double rp, re;
+    double rp, re, mgtt;
     if (eval(s->obs_r, k, n, &o->r) || eval(s->obs_theta, k, n, &o->theta) ||
         eval(s->obs_phi, k, n, &o->phi) || eval(s->roll, k, n, &o->roll) ||
         eval(s->pitch, k, n, &o->pitch) || eval(s->yaw, k, n, &o->yaw) ||
@@ -567,7 +567,13 @@ static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, 
         return frame_fail(err, s, k, n,
                           "observer.r = %g is at or inside the event horizon r+ = %g", o->r, rp);
     re = cr_metric_r_ergo(mt, o->theta);
-    if (o->r <= re || !(cr_metric_minus_gtt(mt, o->r, o->theta) > 0.0))
+    mgtt = cr_metric_minus_gtt(mt, o->r, o->theta);
+    if (o->r > re && !isfinite(mgtt)) /* r^2 overflows or underflows */
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g with metric.m = %g is out of the range curray can "
+                          "compute with (lengths are in units of M: keep r/M and M sensible)",
+                          o->r, mt->m);
+    if (o->r <= re || !(mgtt > 0.0))
         return frame_fail(err, s, k, n,
                           "observer.r = %g at theta = %g deg is inside the ergosphere "
                           "(r_E+ = %g): no static observer exists there",

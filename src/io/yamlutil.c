@@ -16,6 +16,11 @@
 #define NUMBER_MAX 128
 /* Characters of a scalar shown in messages before it is shortened. */
 #define SHOW_MAX 48
+/* Deepest nesting of lists and mappings accepted. libyaml's scanner takes
+ * time quadratic in the depth of flow collections (it rechecks every open
+ * level at each token): a few megabytes of '[' would run for hours. curray's
+ * files nest three levels deep. */
+#define NEST_MAX 64
 
 /* ---- messages ------------------------------------------------------------ */
 
@@ -205,6 +210,36 @@ static int parser_error(const cr_yaml *y, const yaml_parser_t *p, const char *te
     }
 }
 
+/* Walk the events of text while the nesting stays within NEST_MAX levels:
+ * -1 with a message at the first deeper collection, else 0 (syntax errors
+ * are left to yaml_parser_load, which reports them the same way). */
+static int check_nesting(const cr_yaml *y, const char *text, size_t len, cr_err *err)
+{
+    yaml_parser_t p;
+    yaml_event_t ev;
+    int depth = 0, rc = 0, done = 0;
+    if (!yaml_parser_initialize(&p))
+        return cr_err_set(err, "%s: out of memory while reading YAML", y->name);
+    yaml_parser_set_input_string(&p, (const unsigned char *)text, len);
+    while (!done && yaml_parser_parse(&p, &ev)) {
+        if (ev.type == YAML_SEQUENCE_START_EVENT || ev.type == YAML_MAPPING_START_EVENT) {
+            if (++depth > NEST_MAX) {
+                rc = cr_yaml_fail_at(y, ev.start_mark, NULL, err,
+                                     "lists and mappings nested more than %d levels deep",
+                                     NEST_MAX);
+                done = 1;
+            }
+        } else if (ev.type == YAML_SEQUENCE_END_EVENT || ev.type == YAML_MAPPING_END_EVENT) {
+            depth--;
+        } else if (ev.type == YAML_STREAM_END_EVENT) {
+            done = 1;
+        }
+        yaml_event_delete(&ev);
+    }
+    yaml_parser_delete(&p);
+    return rc;
+}
+
 int cr_yaml_load(cr_yaml *y, const char *text, size_t len, const char *name, cr_err *err)
 {
     yaml_parser_t parser;
@@ -218,6 +253,8 @@ int cr_yaml_load(cr_yaml *y, const char *text, size_t len, const char *name, cr_
         text = "";
         len = 0;
     }
+    if (check_nesting(y, text, len, err))
+        return -1;
     if (!yaml_parser_initialize(&parser))
         return cr_err_set(err, "%s: out of memory while reading YAML", y->name);
     parser_ok = 1;

@@ -1,0 +1,397 @@
+#!/usr/bin/env bash
+# Bad input and faults at the command line (docs/bad-input.md): every case
+# runs the curray binary and checks its exit status, a substring of what it
+# prints and, where output is involved, that no partial or temporary file is
+# left behind.
+#
+#   bash tests/cli/test_cli.sh path/to/curray [repository root]
+#
+# Prints one line per case (ok / FAIL / skip with its reason) and a last line
+# "N passed, N failed, N skipped"; exits 1 when any case failed. Runs in a
+# temporary folder (curray writes log/ and reads config.yml in the current
+# folder). Renders are tiny (8x8); the whole script takes a few seconds plus
+# the interrupted render.
+set -u
+
+CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+ROOT=$(cd "${2:-$(dirname "$0")/../..}" && pwd)
+[ -x "$CURRAY" ] || { echo "test_cli: no curray binary at $CURRAY" >&2; exit 2; }
+
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/curray-test-cli.XXXXXX")
+chmod 755 "$WORK"
+MOUNTED=""
+cleanup() {
+    [ -n "$MOUNTED" ] && umount "$MOUNTED" 2>/dev/null
+    chmod -R u+rwx "$WORK" 2>/dev/null
+    rm -rf "$WORK"
+}
+trap cleanup EXIT
+cd "$WORK" || exit 2
+
+passed=0 failed=0 skipped=0
+OUT=""  # what the last run printed (stdout and stderr)
+RC=0    # its exit status
+
+ok() { echo "ok   $1"; passed=$((passed + 1)); }
+bad() { echo "FAIL $1: $2"; [ -n "$OUT" ] && echo "$OUT" | sed 's/^/       | /'; failed=$((failed + 1)); }
+skip() { echo "skip $1: $2"; skipped=$((skipped + 1)); }
+
+# run ARGS...: run curray (stdin not a terminal, so it never asks), with a
+# time limit: a hang is a failure too. AS (an array) may hold a command that
+# runs it as another user.
+AS=()
+run() {
+    OUT=$(timeout 60 "${AS[@]}" "$CURRAY" "$@" </dev/null 2>&1)
+    RC=$?
+}
+
+# Permission cases need a user that permissions apply to: root reads and
+# writes anything, so as root they run curray as nobody (setpriv).
+NOBODY=()
+PERM_SKIP=""
+if [ "$(id -u)" = 0 ]; then
+    NOBODY=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+    if ! "${NOBODY[@]}" "$CURRAY" --version >/dev/null 2>&1; then
+        PERM_SKIP="running as root, and curray cannot be run as nobody with setpriv here"
+    fi
+fi
+
+# Files a failed or interrupted frame must not leave: temporaries of the
+# atomic writes (".c_0.png.tmp.<pid>.<n>").
+temps_in() { find "$1" -name '*.tmp.*' 2>/dev/null | head -5; }
+
+# expect NAME RC SUBSTRING ARGS...: run curray with ARGS and check the exit
+# status, the message, and that the output folder "o" was not created (every
+# case here is refused before anything is written).
+expect() {
+    local name=$1 want_rc=$2 want_msg=$3
+    shift 3
+    rm -rf o
+    run "$@"
+    if [ "$RC" != "$want_rc" ]; then
+        bad "$name" "exit status $RC, expected $want_rc"
+    elif [[ "$OUT" != *"$want_msg"* ]]; then
+        bad "$name" "message lacks '$want_msg'"
+    elif [ -e o ]; then
+        bad "$name" "the output folder was created for a refused run"
+    else
+        ok "$name"
+    fi
+}
+
+# scene NAME RC SUBSTRING YAML [curray options...]: write YAML to bad.yml and
+# render it into o at 8x8.
+scene() {
+    local name=$1 want_rc=$2 want_msg=$3 yaml=$4
+    shift 4
+    printf '%s' "$yaml" >bad.yml
+    expect "$name" "$want_rc" "$want_msg" -s bad.yml -o o -x 8 -y 8 -a true "$@"
+}
+
+GOOD=$'metric: {m: 1, a: 0, q: 0}\nobserver: {r: 20, theta: 90, phi: 0, hfov: 60}\n'
+OBS=$'observer: {r: 20, theta: 90, phi: 0, hfov: 60}\n'
+MET=$'metric: {m: 1, a: 0, q: 0}\n'
+printf '%s' "$GOOD" >good.yml
+mkdir adir
+touch afile
+
+# --- a good run, as a reference --------------------------------------------
+rm -rf o
+run -s good.yml -o o -x 8 -y 8 -t icrd -a true
+if [ "$RC" = 0 ] && [ -f o/c_0.png ] && [ -f o/r_0.png ] && [ -f o/d_0.csv ] && [ -f o/info.txt ] &&
+    [ -z "$(temps_in o)" ]; then ok "good scene renders"; else bad "good scene renders" "rc $RC"; fi
+
+# --- missing or unreadable files -------------------------------------------
+expect "missing scene file" 1 "scene file nope.yml: cannot open: No such file or directory" \
+    -s nope.yml -o o -x 8 -y 8
+expect "scene file is a folder" 1 "adir: read error: Is a directory" -s adir -o o -x 8 -y 8
+expect "missing configuration" 1 "configuration file nope.yml: cannot open: No such file" \
+    -s good.yml -c nope.yml -o o -x 8 -y 8
+expect "configuration is a folder" 1 "configuration file adir: read error: Is a directory" \
+    -s good.yml -c adir -o o -x 8 -y 8
+if [ -z "$PERM_SKIP" ]; then
+    cp good.yml noread.yml && chmod 000 noread.yml
+    cp "$ROOT/scenes/sky_grid.png" noread.png && chmod 000 noread.png
+    AS=("${NOBODY[@]}")
+    expect "unreadable scene (no permission)" 1 "scene file noread.yml: cannot open: Permission denied" \
+        -s noread.yml -o o -x 8 -y 8
+    expect "unreadable configuration (no permission)" 1 "configuration file noread.yml: cannot open: Permission denied" \
+        -s good.yml -c noread.yml -o o -x 8 -y 8
+    scene "unreadable sky image (no permission)" 1 "cannot read PNG 'noread.png': Permission denied" \
+        "$GOOD"$'skymap: {image: noread.png, boundary: 50}\n'
+    AS=()
+else
+    skip "unreadable scene (no permission)" "$PERM_SKIP"
+    skip "unreadable configuration (no permission)" "$PERM_SKIP"
+    skip "unreadable sky image (no permission)" "$PERM_SKIP"
+fi
+printf 'cpu: {threads: 4\n' >config.yml
+expect "broken config.yml in the current folder" 1 \
+    "configuration file config.yml:2:1: YAML syntax error" -s good.yml -o o -x 8 -y 8
+rm config.yml
+scene "missing sky image" 1 "skymap.image: cannot read PNG 'nope.png': No such file or directory" \
+    "$GOOD"$'skymap: {image: nope.png, boundary: 50}\n'
+printf 'not an image\n' >text.png
+scene "sky image is not a PNG" 1 "cannot read PNG 'text.png': not a PNG file (wrong signature)" \
+    "$GOOD"$'skymap: {image: text.png, boundary: 50}\n'
+: >empty.png
+scene "sky image is empty" 1 "not a PNG file (wrong signature, the file is empty)" \
+    "$GOOD"$'skymap: {image: empty.png, boundary: 50}\n'
+head -c 200 "$ROOT/scenes/sky.png" >trunc.png
+scene "sky image is truncated" 1 "cannot read PNG 'trunc.png': the file is truncated" \
+    "$GOOD"$'skymap: {image: trunc.png, boundary: 50}\n'
+# A PNG signature and a valid IHDR chunk (CRC included) claiming
+# 100000 x 100000 pixels, and nothing else.
+printf '\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00\x27\x30\x9c\x9f' >huge.png
+scene "sky image header claims 100000x100000" 1 \
+    "the image is 100000 x 100000 = 10000000000 pixels (30000000000 bytes as 8-bit RGB), more than the limit" \
+    "$GOOD"$'skymap: {image: huge.png, boundary: 50}\n'
+scene "sky image path is a folder" 1 "cannot read PNG 'adir': Is a directory" \
+    "$GOOD"$'skymap: {image: adir, boundary: 50}\n'
+
+# --- malformed YAML ---------------------------------------------------------
+scene "unclosed flow mapping" 1 "bad.yml:2:9: YAML syntax error: did not find expected ',' or '}' (while parsing a flow mapping at line 1, column 9)" \
+    $'metric: {m: 1, a: 0, q: 0\n'"$OBS"
+scene "tab indentation" 1 "bad.yml:2:1: YAML syntax error: found character that cannot start any token" \
+    $'metric:\n\tm: 1\n'
+scene "bad indentation" 1 "bad.yml:3:5: YAML syntax error: mapping values are not allowed in this context" \
+    $'metric:\n  m: 1\n   a: 0\n'
+expect "a PNG given as the scene" 1 "sky.png:1:1: YAML syntax error: invalid leading UTF-8 octet" \
+    -s "$ROOT/scenes/sky.png" -o o -x 8 -y 8
+scene "empty scene file" 1 "the scene file is empty" ""
+scene "two YAML documents" 1 "bad.yml:4:1: a second YAML document starts here" "$GOOD"$'---\nx: 1\n'
+scene "scene is a list" 1 "a scene must be a mapping of keys" $'- 1\n- 2\n'
+# libyaml's scanner is quadratic in the nesting depth: 1 MB of '[' would run
+# for hours without the depth limit (the time limit of run() catches a hang).
+scene "lists nested a million deep" 1 "bad.yml:3:75: lists and mappings nested more than 64 levels deep" \
+    "$GOOD"'sky_color: '"$(head -c 1000000 /dev/zero | tr '\0' '[')"
+
+# --- wrong types ------------------------------------------------------------
+scene "word where a number belongs" 1 'bad.yml:2:15: observer.r: expected a number, got "abc"' \
+    "$MET"$'observer: {r: abc, theta: 90, phi: 0, hfov: 60}\n'
+scene "number with a unit" 1 'observer.r: expected a plain number without a unit, got "20 deg"' \
+    "$MET"$'observer: {r: 20 deg, theta: 90, phi: 0, hfov: 60}\n'
+scene "unknown angle unit" 1 "observer.theta: unknown angle unit 'grad'" \
+    "$MET"$'observer: {r: 20, theta: 90 grad, phi: 0, hfov: 60}\n'
+scene "colour list too short" 1 "bad.yml:3:12: sky_color: expected a colour [R, G, B], got a list of 2 items" \
+    "$GOOD"$'sky_color: [0, 0]\n'
+scene "colour list too long" 1 "sky_color: expected a colour [R, G, B], got a list of 4 items" \
+    "$GOOD"$'sky_color: [0, 0, 0, 0]\n'
+scene "colour component 256" 1 'bad.yml:3:16: sky_color[1]: expected a colour component, an integer from 0 to 255, got "256"' \
+    "$GOOD"$'sky_color: [0, 256, 0]\n'
+scene "colour component -1" 1 'sky_color[0]: expected a colour component, an integer from 0 to 255, got "-1"' \
+    "$GOOD"$'sky_color: [-1, 0, 0]\n'
+scene "colour component 1.5" 1 'horizon_color[2]: expected a colour component, an integer from 0 to 255, got "1.5"' \
+    "$GOOD"$'horizon_color: [0, 0, 1.5]\n'
+scene "number where a list belongs" 1 'accretion.resolution: expected a resolution [radial divisions, sectors], got "5"' \
+    "$GOOD"$'accretion: {color1: [0, 255, 0], resolution: 5, radius: [6, 15]}\n'
+scene "mapping where a number belongs" 1 "bad.yml:1:13: metric.m: expected a number, got a mapping" \
+    $'metric: {m: {x: 1}, a: 0, q: 0}\n'"$OBS"
+scene "unknown animation" 1 "unknown animation \"cubic\"" \
+    "$MET"$'observer: {r: 20, theta: 90, phi: [cubic, 0, 1], hfov: 60}\n'
+
+# --- unknown, missing and duplicate keys ------------------------------------
+scene "unknown key" 1 "bad.yml:2:48: unknown key 'colour' in observer (expected one of: r, theta, phi" \
+    "$MET"$'observer: {r: 20, theta: 90, phi: 0, hfov: 60, colour: 1}\n'
+scene "unknown top-level key" 1 "bad.yml:3:1: unknown key 'sphere2' at the top level" \
+    "$GOOD"$'sphere2: {}\n'
+scene "missing required key" 1 "observer: missing required key 'hfov'" \
+    "$MET"$'observer: {r: 20, theta: 90, phi: 0}\n'
+scene "missing observer" 1 "missing required key 'observer'" "$MET"
+scene "duplicate key" 1 "duplicate key 'r' (first given at line 2" \
+    "$MET"$'observer: {r: 20, r: 30, theta: 90, phi: 0, hfov: 60}\n'
+printf 'cpu: {threads: 4}\nlog: {verbos: true}\n' >c.yml
+expect "unknown configuration key" 1 "c.yml:2:7: unknown key 'verbos' in log" \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'cpu: {threads: many}\n' >c.yml
+expect "configuration: word for a number" 1 'c.yml:1:16: cpu.threads: expected a number of threads from 1 to 4096, got "many"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+
+# --- non-finite numbers -----------------------------------------------------
+scene "NaN" 1 'observer.r: expected a finite number, got ".nan"' \
+    "$MET"$'observer: {r: .nan, theta: 90, phi: 0, hfov: 60}\n'
+scene "infinity" 1 'metric.m: expected a finite number, got ".inf"' $'metric: {m: .inf, a: 0, q: 0}\n'"$OBS"
+scene "overflowing number" 1 'observer.r: expected a finite number, got "1e999"' \
+    "$MET"$'observer: {r: 1e999, theta: 90, phi: 0, hfov: 60}\n'
+scene "infinite angle" 1 'observer.theta: expected a finite angle, got "-inf deg"' \
+    "$MET"$'observer: {r: 20, theta: -inf deg, phi: 0, hfov: 60}\n'
+scene "overflowing angle" 1 'observer.phi: expected a finite angle, got "1e308 pi"' \
+    "$MET"$'observer: {r: 20, theta: 90, phi: 1e308 pi, hfov: 60}\n'
+printf 'raytracer: {step_multiplier: .inf}\n' >c.yml
+expect "configuration: infinity" 1 'raytracer.step_multiplier: expected a finite number, got ".inf"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+
+# --- physically impossible scenes (ERRATA item 4) ---------------------------
+scene "no horizon (a > M)" 1 "a^2 + q^2 = 4 exceeds m^2 = 1, so there is no event horizon" \
+    $'metric: {m: 1, a: 2, q: 0}\n'"$OBS"
+scene "no horizon (a^2 + Q^2 > M^2)" 1 "so there is no event horizon" $'metric: {m: 1, a: 0.8, q: 0.7}\n'"$OBS"
+scene "zero mass" 1 "metric.m = 0: the mass M must be positive" $'metric: {m: 0, a: 0, q: 0}\n'"$OBS"
+scene "negative mass" 1 "metric.m = -1: the mass M must be positive" $'metric: {m: -1, a: 0, q: 0}\n'"$OBS"
+scene "observer inside the horizon" 1 "observer.r = 1.5 is at or inside the event horizon r+ = 2" \
+    "$MET"$'observer: {r: 1.5, theta: 90, phi: 0, hfov: 60}\n'
+scene "observer on the horizon" 1 "observer.r = 2 is at or inside the event horizon" \
+    "$MET"$'observer: {r: 2, theta: 90, phi: 0, hfov: 60}\n'
+scene "observer inside the ergosphere" 1 "is inside the ergosphere (r_E+ = 2): no static observer exists there" \
+    $'metric: {m: 1, a: 0.9, q: 0}\nobserver: {r: 1.9, theta: 90, phi: 0, hfov: 60}\n'
+scene "observer theta outside 0..180" 1 "observer.theta = 200 deg lies outside 0 to 180 deg" \
+    "$MET"$'observer: {r: 20, theta: 200, phi: 0, hfov: 60}\n'
+scene "observer too far out for doubles" 1 "observer.r = 1e+160 with metric.m = 1 is out of the range" \
+    "$MET"$'observer: {r: 1e160, theta: 90, phi: 0, hfov: 60}\n'
+scene "hfov 180" 1 "observer.hfov = 180 deg: a field of view must lie between 0 and 180 deg" \
+    "$MET"$'observer: {r: 20, theta: 90, phi: 0, hfov: 180}\n'
+scene "hfov 0" 1 "observer.hfov = 0 deg: a field of view must lie between 0 and 180 deg" \
+    "$MET"$'observer: {r: 20, theta: 90, phi: 0, hfov: 0}\n'
+scene "vfov negative" 1 "observer.vfov = -10 deg: a field of view must lie between 0 and 180" \
+    "$MET"$'observer: {r: 20, theta: 90, phi: 0, hfov: 60, vfov: -10}\n'
+scene "disc r_in >= r_out" 1 "accretion.radius: the inner radius 15 must be below the outer radius 6" \
+    "$GOOD"$'accretion: {color1: [0, 255, 0], resolution: [2, 12], radius: [15, 6]}\n'
+scene "disc r_in = r_out" 1 "the inner radius 6 must be below the outer radius 6" \
+    "$GOOD"$'accretion: {color1: [0, 255, 0], resolution: [2, 12], radius: [6, 6]}\n'
+scene "disc r_in negative" 1 "accretion.radius: the inner radius -1 is negative" \
+    "$GOOD"$'accretion: {color1: [0, 255, 0], resolution: [2, 12], radius: [-1, 6]}\n'
+scene "disc resolution 0" 1 'accretion.resolution[0]: expected a positive integer, got "0"' \
+    "$GOOD"$'accretion: {color1: [0, 255, 0], resolution: [0, 12], radius: [6, 15]}\n'
+scene "sphere radius 0" 1 "radius = 0 must be positive" \
+    "$GOOD"$'sphere: {color: [0, 0, 255], resolution: [4, 8], r: 8, theta: 90, phi: 0, radius: 0}\n'
+scene "sky boundary 0" 1 "skymap.boundary = 0 must be positive" \
+    "$GOOD"$'skymap: {image: '"$ROOT"$'/scenes/sky_grid.png, boundary: 0}\n'
+scene "impossible only in the last frame" 1 "bad.yml: frame 2 of 3: metric: a^2 + q^2 = 4 exceeds m^2 = 1" \
+    $'metric: {m: 1, a: [linear, 0, 2], q: 0}\n'"$OBS" -f 3
+
+# --- sizes and frame counts -------------------------------------------------
+expect "width 0" 2 "-x: expected a width from 1 to 65536 pixels, got '0'" -s good.yml -o o -x 0 -y 8
+expect "negative height" 2 "-y: expected a height from 1 to 65536 pixels, got '-5'" -s good.yml -o o -x 8 -y -5
+expect "width is a word" 2 "-x: expected a width from 1 to 65536 pixels, got 'wide'" -s good.yml -o o -x wide -y 8
+expect "width 100000" 2 "got '100000'" -s good.yml -o o -x 100000 -y 8
+expect "65536x65536 frame" 2 "more than the 268435456 this version renders (it would need about 192.0 GiB of memory)" \
+    -s good.yml -o o -x 65536 -y 65536
+expect "no frame size" 2 "the frame size is required" -s good.yml -o o -x 8
+expect "zero frames" 2 "-f: expected a frame count from 1 to 1000000, got '0'" -s good.yml -o o -x 8 -y 8 -f 0
+expect "negative frames" 2 "-f: expected a frame count from 1 to 1000000, got '-3'" -s good.yml -o o -x 8 -y 8 -f -3
+expect "absurd frame count" 2 "-f: expected a frame count from 1 to 1000000, got '99999999999'" \
+    -s good.yml -o o -x 8 -y 8 -f 99999999999
+expect "unknown output type" 2 "-t: unknown output type 'z'" -s good.yml -o o -x 8 -y 8 -t cz
+# More memory than the process may use: refused before the frame buffers (or
+# the scene) are allocated. Sanitizer builds reserve terabytes of address
+# space and cannot start under ulimit -v at all.
+if (ulimit -v 3000000 && "$CURRAY" --version) >/dev/null 2>&1; then
+    rm -rf o
+    OUT=$( (ulimit -v 3000000 && exec timeout 60 "$CURRAY" -s good.yml -o o -x 16384 -y 16384 -a true) 2>&1)
+    RC=$?
+    if [ "$RC" = 1 ] && [[ "$OUT" == *"a 16384x16384 frame (1 frame) needs about 10."*" GiB of memory, more than the 2.86 GiB of the address-space limit"* ]] &&
+        [ ! -e o ]; then
+        ok "frame larger than the memory limit"
+    else
+        bad "frame larger than the memory limit" "exit status $RC"
+    fi
+else
+    skip "frame larger than the memory limit" "curray cannot start under ulimit -v (a sanitizer build)"
+fi
+
+# --- output folder ----------------------------------------------------------
+expect "output folder under a regular file" 1 "cannot create folder 'afile/out': 'afile' exists and is not a folder" \
+    -s good.yml -o afile/out -x 8 -y 8
+expect "output folder is a regular file" 1 "cannot create folder 'afile': it exists and is not a folder" \
+    -s good.yml -o afile -x 8 -y 8
+if [ -z "$PERM_SKIP" ]; then
+    mkdir -p ro && chmod 555 ro
+    AS=("${NOBODY[@]}")
+    run -s good.yml -o ro -x 8 -y 8 -t icrd -a true
+    if [ "$RC" = 1 ] && [[ "$OUT" == *"cannot write 'ro/c_0.png': cannot create a file in its folder: Permission denied"* ]] &&
+        [ -z "$(ls -A ro)" ]; then ok "read-only output folder"; else bad "read-only output folder" "exit status $RC"; fi
+    run -s good.yml -o ro/sub -x 8 -y 8 -a true
+    if [ "$RC" = 1 ] && [[ "$OUT" == *"cannot create folder 'ro/sub': cannot create 'ro/sub': Permission denied"* ]] &&
+        [ -z "$(ls -A ro)" ]; then ok "output folder in a read-only folder"; else bad "output folder in a read-only folder" "exit status $RC"; fi
+    AS=()
+    chmod 755 ro
+else
+    skip "read-only output folder" "$PERM_SKIP"
+    skip "output folder in a read-only folder" "$PERM_SKIP"
+fi
+rm -rf log
+touch log
+run -s good.yml -o o2 -x 8 -y 8 -a true
+if [ "$RC" = 0 ] && [[ "$OUT" == *"warning: cannot create the log file"*"(logging to the console only)"* ]] &&
+    [ -f o2/c_0.png ]; then ok "log folder cannot be created (warning only)"; else bad "log folder cannot be created (warning only)" "exit status $RC"; fi
+rm -f log
+
+# A full disk: a 64 KiB file system holds frame 0 (info.txt, c_, r_ and a
+# 50 KB d_0.csv) but not frame 1. Frame 1 must leave no file of its own and
+# no temporary; info.txt must list frame 0 only.
+mkdir full
+if [ "$(id -u)" = 0 ] && mount -t tmpfs -o size=64k tmpfs full 2>/dev/null; then
+    MOUNTED=$WORK/full
+    run -s good.yml -o full/out -x 24 -y 24 -f 3 -t icrd -a true
+    why=""
+    [ "$RC" = 1 ] || why="exit status $RC, expected 1"
+    [[ "$OUT" == *"No space left on device"* ]] || why=${why:-"message lacks 'No space left on device'"}
+    [[ "$OUT" == *"1 of 3 frames were finished and kept in full/out"* ]] || why=${why:-"message lacks '1 of 3 frames were finished'"}
+    for f in c_0.png r_0.png d_0.csv info.txt; do [ -s "full/out/$f" ] || why=${why:-"frame 0 lost $f"}; done
+    for f in c_1.png r_1.png d_1.csv c_2.png r_2.png d_2.csv; do [ -e "full/out/$f" ] && why=${why:-"the failed frame left $f"}; done
+    [ -z "$(temps_in full)" ] || why=${why:-"temporary files left: $(temps_in full)"}
+    grep -q '^Frame 0$' full/out/info.txt && ! grep -q '^Frame [12]$' full/out/info.txt &&
+        grep -q 'Finished 1 of 3 frames (run incomplete)' full/out/info.txt || why=${why:-"info.txt does not list frame 0 alone"}
+    if [ -z "$why" ]; then ok "full disk"; else bad "full disk" "$why"; fi
+    # the same with no room even for frame 0: nothing at all is left
+    rm -rf full/out
+    head -c 60000 /dev/zero >full/filler 2>/dev/null
+    run -s good.yml -o full/out -x 24 -y 24 -t icrd -a true
+    if [ "$RC" = 1 ] && [[ "$OUT" == *"No space left on device"* ]] && [ -z "$(ls -A full/out)" ]; then
+        ok "full disk at the first frame"
+    else
+        bad "full disk at the first frame" "exit status $RC; left: $(ls -A full/out | tr '\n' ' ')"
+    fi
+    umount full && MOUNTED=""
+else
+    skip "full disk" "needs root and 'mount -t tmpfs' (not permitted here)"
+    skip "full disk at the first frame" "needs root and 'mount -t tmpfs' (not permitted here)"
+fi
+
+# --- console output closed early ---------------------------------------------
+# curray ... | head -c 1: the reader goes away before the render starts; the
+# render must finish anyway (no death by SIGPIPE half-way through a file).
+rm -rf pp
+timeout 60 "$CURRAY" -s good.yml -o pp -x 8 -y 8 -f 3 -t icrd -a true </dev/null 2>/dev/null | head -c 1 >/dev/null
+RC=${PIPESTATUS[0]}
+OUT=""
+if [ "$RC" = 0 ] && [ -s pp/c_2.png ] && [ -s pp/d_2.csv ] && grep -q 'Finished 3 of 3 frames$' pp/info.txt &&
+    [ -z "$(temps_in pp)" ]; then ok "console output closed early (| head -c 1)"; else bad "console output closed early (| head -c 1)" "exit status $RC"; fi
+
+# --- Ctrl-C -----------------------------------------------------------------
+# SIGINT once frame 0 is written: exit status 130; the finished frames are
+# kept whole, the frame in progress leaves no file and no temporary, and
+# info.txt lists exactly the finished frames.
+rm -rf si
+"$CURRAY" -s "$ROOT/scenes/demo.yml" -o si -x 32 -y 32 -f 200 -t icrd --threads 1 -a true </dev/null >si.log 2>&1 &
+pid=$!
+for _ in $(seq 600); do [ -f si/info.txt ] && break; sleep 0.1; done
+sleep 0.2
+kill -INT "$pid" 2>/dev/null
+for _ in $(seq 300); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+if kill -0 "$pid" 2>/dev/null; then
+    kill -KILL "$pid"
+    wait "$pid" 2>/dev/null
+    OUT=$(cat si.log)
+    bad "Ctrl-C during a render" "still running 30 s after SIGINT"
+else
+    wait "$pid"
+    RC=$?
+    OUT=$(cat si.log)
+    n_c=$(ls si | grep -c '^c_')
+    why=""
+    [ "$RC" = 130 ] || why="exit status $RC, expected 130"
+    [[ "$OUT" == *"interrupted; $n_c of 200 frames finished and kept in si"* ]] || why=${why:-"message lacks 'interrupted; $n_c of 200 frames finished'"}
+    [ "$n_c" -ge 1 ] && [ "$n_c" -lt 200 ] || why=${why:-"$n_c frames kept"}
+    for ((k = 0; k < n_c; k++)); do
+        for f in c_$k.png r_$k.png d_$k.csv; do [ -s "si/$f" ] || why=${why:-"finished frame lacks $f"}; done
+        grep -q "^Frame $k\$" si/info.txt || why=${why:-"info.txt lacks frame $k"}
+    done
+    for f in "c_$n_c.png" "r_$n_c.png" "d_$n_c.csv"; do [ -e "si/$f" ] && why=${why:-"the interrupted frame left $f"}; done
+    [ "$(grep -c '^Frame ' si/info.txt)" = "$n_c" ] || why=${why:-"info.txt lists other frames"}
+    grep -q "Finished $n_c of 200 frames (run incomplete)" si/info.txt || why=${why:-"info.txt lacks 'Finished $n_c of 200'"}
+    [ -z "$(temps_in si)" ] || why=${why:-"temporary files left: $(temps_in si)"}
+    if [ -z "$why" ]; then ok "Ctrl-C during a render (frames kept: $n_c)"; else bad "Ctrl-C during a render" "$why"; fi
+fi
+
+echo "$passed passed, $failed failed, $skipped skipped"
+[ "$failed" = 0 ]
