@@ -1,6 +1,5 @@
 #include "render_cpu.h"
 
-#include <errno.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
@@ -17,6 +16,8 @@ typedef struct cr_cpu_job {
     atomic_int next_row;
     atomic_int rows_done;
     volatile sig_atomic_t *cancel;
+    pthread_mutex_t lock; /* with `finished`: wakes the caller when the last row is done */
+    pthread_cond_t finished;
 } cr_cpu_job;
 
 static void *cr_cpu_worker(void *arg)
@@ -29,7 +30,11 @@ static void *cr_cpu_worker(void *arg)
             break;
         for (i = 0; i < f->width; i++)
             job->out[(size_t)j * f->width + i] = cr_trace_pixel(f, i, j);
-        atomic_fetch_add(&job->rows_done, 1);
+        if (atomic_fetch_add(&job->rows_done, 1) + 1 == f->height) {
+            pthread_mutex_lock(&job->lock);
+            pthread_cond_signal(&job->finished);
+            pthread_mutex_unlock(&job->lock);
+        }
     }
     return NULL;
 }
@@ -58,27 +63,46 @@ int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn 
     job.cancel = cancel;
     atomic_init(&job.next_row, 0);
     atomic_init(&job.rows_done, 0);
+    pthread_mutex_init(&job.lock, NULL);
+    pthread_cond_init(&job.finished, NULL);
 
     for (t = 0; t < threads; t++) {
         int e = pthread_create(&tid[t], NULL, cr_cpu_worker, &job);
         if (e != 0) {
-            if (started == 0)
+            if (started == 0) {
+                pthread_cond_destroy(&job.finished);
+                pthread_mutex_destroy(&job.lock);
                 return cr_err_set(err, "cannot start a worker thread: %s", strerror(e));
+            }
             break; /* render with the threads we have */
         }
         started++;
     }
+    /* wake every 0.25 s for progress and cancel, or at once when done */
+    pthread_mutex_lock(&job.lock);
     while (atomic_load(&job.rows_done) < f->height) {
-        struct timespec ts = {0, 250 * 1000 * 1000};
+        struct timespec ts;
         if (cancel && *cancel)
             break;
-        if (progress)
+        if (progress) {
+            pthread_mutex_unlock(&job.lock);
             progress(ctx, atomic_load(&job.rows_done), f->height);
-        while (nanosleep(&ts, &ts) == -1 && errno == EINTR && !(cancel && *cancel))
-            ;
+            pthread_mutex_lock(&job.lock);
+        }
+        clock_gettime(CLOCK_REALTIME, &ts);
+        ts.tv_nsec += 250 * 1000 * 1000;
+        if (ts.tv_nsec >= 1000000000L) {
+            ts.tv_sec++;
+            ts.tv_nsec -= 1000000000L;
+        }
+        if (atomic_load(&job.rows_done) < f->height)
+            pthread_cond_timedwait(&job.finished, &job.lock, &ts);
     }
+    pthread_mutex_unlock(&job.lock);
     for (t = 0; t < started; t++)
         pthread_join(tid[t], NULL);
+    pthread_cond_destroy(&job.finished);
+    pthread_mutex_destroy(&job.lock);
     if (cancel && *cancel)
         rc = cr_err_set(err, "interrupted");
     else if (progress)
