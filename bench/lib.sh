@@ -1,0 +1,161 @@
+# bench/lib.sh: shared helpers of bench/run.sh and bench/scaling.sh (sourced, not run).
+# Timings only; nothing here is a test.
+
+BENCH_DIR=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+REPO_DIR=$(cd "$BENCH_DIR/.." && pwd)
+BUILD_DIR=${CURRAY_BENCH_BUILD:-$REPO_DIR/build-bench}
+CURRAY=${CURRAY_BIN:-$BUILD_DIR/curray}
+ALL_SCENES="schwarzschild-disc kerr-disc starry-sky sphere"
+
+die() { echo "bench: $*" >&2; exit 1; }
+
+# Build the project's own binary (Release) when it is missing. For --backend
+# cuda the build must have found nvcc; the binary's `-i` answers whether it can
+# see a GPU.
+bench_ensure_binary() {
+    local backend=$1
+    if [ ! -x "$CURRAY" ]; then
+        [ -n "${CURRAY_BIN:-}" ] && die "CURRAY_BIN=$CURRAY is not an executable"
+        echo "bench: building $CURRAY (Release)" >&2
+        "$REPO_DIR/tools/install-deps.sh" >&2 || die "cannot install the build dependencies"
+        cmake -S "$REPO_DIR" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DCURRAY_TESTS=OFF >&2 &&
+            cmake --build "$BUILD_DIR" -j "$(nproc 2>/dev/null || echo 2)" --target curray >&2 ||
+            die "build failed"
+    fi
+    if [ "$backend" = cuda ]; then
+        if "$CURRAY" -i 2>&1 | grep -qE "no CUDA support|No CUDA GPU can be used"; then
+            die "$CURRAY cannot use a CUDA device (built without nvcc, or no GPU): see '$CURRAY -i'"
+        fi
+    fi
+}
+
+# Peak memory comes from GNU time's "Maximum resident set size". Install the
+# Debian package `time` when it is missing (as tools/install-deps.sh does for
+# the build); without it, fall back to polling VmHWM in /proc/<pid>/status.
+GNU_TIME=/usr/bin/time
+bench_ensure_time() {
+    if [ -x "$GNU_TIME" ] && "$GNU_TIME" -v true >/dev/null 2>&1; then return 0; fi
+    "$REPO_DIR/tools/install-deps.sh" time >&2 2>&1 || true
+    if [ -x "$GNU_TIME" ] && "$GNU_TIME" -v true >/dev/null 2>&1; then return 0; fi
+    echo "bench: GNU time unavailable; peak memory read from /proc/<pid>/status (VmHWM, polled)" >&2
+    GNU_TIME=""
+}
+
+load1() { cut -d' ' -f1 /proc/loadavg; }
+
+# bench_measure SCENE W H BACKEND THREADS CONFIG RUN CSV
+# Renders one frame (info.txt only, so PNG/CSV writing is not timed) and
+# appends one row to CSV:
+#   scene,backend,threads,width,height,config,run,frame_s,process_s,rays,steps,
+#   max_steps_ray,peak_rss_kb,cpu_pct,load1_before
+# frame_s is curray's own render time of the frame (info.txt "wall time");
+# process_s the whole process (loading, set-up, exit).
+bench_measure() {
+    local scene=$1 w=$2 h=$3 backend=$4 threads=$5 config=$6 run=$7 csv=$8
+    local sfile="$BENCH_DIR/scenes/$scene.yml"
+    [ -f "$sfile" ] || die "no scene $sfile"
+    local out tfile
+    out=$(mktemp -d "${TMPDIR:-/tmp}/curray-bench.XXXXXX")
+    tfile="$out/time.txt"
+    local args=(-s "$sfile" -o "$out/frame" -x "$w" -y "$h" -t i -a true -q true --backend "$backend")
+    [ "$threads" != "" ] && [ "$threads" != "-" ] && args+=(--threads "$threads")
+    if [ "$config" != "" ] && [ "$config" != "-" ]; then
+        args+=(-c "$config")
+    else
+        # no config.yml from the current folder: built-in defaults
+        args+=(-c "$BENCH_DIR/scenes/defaults.yml")
+    fi
+    local l0 rss="" cpu="" t0 t1 pid rc
+    l0=$(load1)
+    t0=$(date +%s.%N)
+    if [ -n "$GNU_TIME" ]; then
+        "$GNU_TIME" -v -o "$tfile" "$CURRAY" "${args[@]}" >"$out/stdout" 2>&1
+        rc=$?
+    else
+        "$CURRAY" "${args[@]}" >"$out/stdout" 2>&1 &
+        pid=$!
+        while kill -0 "$pid" 2>/dev/null; do
+            local v
+            v=$(awk '/^VmHWM:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
+            [ -n "$v" ] && rss=$v
+            sleep 0.2
+        done
+        wait "$pid"
+        rc=$?
+    fi
+    t1=$(date +%s.%N)
+    if [ "$rc" != 0 ]; then
+        cat "$out/stdout" >&2
+        rm -rf "$out"
+        die "curray failed (exit $rc): $CURRAY ${args[*]}"
+    fi
+    if [ -n "$GNU_TIME" ]; then
+        rss=$(awk -F': ' '/Maximum resident set size/ {print $2}' "$tfile")
+        cpu=$(awk -F': ' '/Percent of CPU this job got/ {sub("%","",$2); print $2}' "$tfile")
+    fi
+    local info="$out/frame/info.txt"
+    local frame_s rays steps maxs
+    frame_s=$(awk '/^  wall time/ {print $3; exit}' "$info")
+    rays=$(awk '/^  rays / {print $2; exit}' "$info")
+    steps=$(awk '/^  RK4 steps/ {print $3; exit}' "$info")
+    maxs=$(awk '/^  steps per ray/ {gsub(/[()]/,""); print $6; exit}' "$info")
+    rm -rf "$out"
+    [ -n "$frame_s" ] && [ -n "$steps" ] || die "could not read $info"
+    local process_s
+    process_s=$(awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f", b - a}')
+    echo "$scene,$backend,${threads:--},$w,$h,$(basename "${config:--}"),$run,$frame_s,$process_s,$rays,$steps,$maxs,${rss:-},${cpu:-},$l0" >>"$csv"
+    printf 'bench: %-18s %5sx%-5s %-4s threads=%-2s cfg=%-12s run %s: %8.3f s, %s steps, load %s\n' \
+        "$scene" "$w" "$h" "$backend" "${threads:--}" "$(basename "${config:--}")" "$run" "$frame_s" "$steps" "$l0" >&2
+}
+
+BENCH_RUNS_HEADER="scene,backend,threads,width,height,config,run,frame_s,process_s,rays,steps,max_steps_ray,peak_rss_kb,cpu_pct,load1_before"
+
+# bench_summarise RUNS_CSV: one line per (scene,backend,threads,size,config)
+# with medians over runs, in the order first seen:
+#   scene,backend,threads,width,height,config,runs,frame_s_median,frame_s_min,
+#   frame_s_max,rays,steps,steps_identical,rays_per_s,steps_per_s,ns_per_step,
+#   steps_per_ray,max_steps_ray,peak_rss_mib,cpu_pct_median,load1_median,cpu_ns_per_step
+bench_summarise() {
+    awk -F, '
+    function median(s,   a, n, i, j, t) {
+        n = split(s, a, " ")
+        for (i = 2; i <= n; i++) { t = a[i] + 0; for (j = i - 1; j >= 1 && a[j] + 0 > t; j--) a[j + 1] = a[j]; a[j + 1] = t }
+        if (n % 2) return a[(n + 1) / 2]
+        return (a[n / 2] + a[n / 2 + 1]) / 2
+    }
+    NR == 1 { next }
+    {
+        k = $1 "," $2 "," $3 "," $4 "," $5 "," $6
+        if (!(k in n)) { order[++nk] = k; n[k] = 0; same[k] = 1; st[k] = $11; lo[k] = $8; hi[k] = $8 }
+        n[k]++; ft[k] = ft[k] " " $8; cp[k] = cp[k] " " $14; ld[k] = ld[k] " " $15
+        if ($14 != "") cn[k] = cn[k] " " 1e9 * ($14 / 100) * $9 / $11
+        if ($8 + 0 < lo[k]) lo[k] = $8; if ($8 + 0 > hi[k]) hi[k] = $8
+        if ($11 != st[k]) same[k] = 0
+        if ($13 + 0 > rss[k]) rss[k] = $13 + 0
+        rays[k] = $10; mx[k] = $12
+    }
+    END {
+        print "scene,backend,threads,width,height,config,runs,frame_s_median,frame_s_min,frame_s_max,rays,steps,steps_identical,rays_per_s,steps_per_s,ns_per_step,steps_per_ray,max_steps_ray,peak_rss_mib,cpu_pct_median,load1_median,cpu_ns_per_step"
+        for (i = 1; i <= nk; i++) {
+            k = order[i]; t = median(ft[k])
+            printf "%s,%d,%.3f,%.3f,%.3f,%d,%.0f,%s,%.0f,%.4g,%.1f,%.1f,%d,%.1f,%s,%.2f,%s\n", k, n[k], t, lo[k], hi[k], rays[k], st[k],
+                same[k] ? "yes" : "no", rays[k] / t, st[k] / t, 1e9 * t / st[k], st[k] / rays[k], mx[k], rss[k] / 1024,
+                median(cp[k]), median(ld[k]), (cn[k] == "" ? "" : sprintf("%.1f", median(cn[k])))
+        }
+    }' "$1"
+}
+
+# bench_markdown SUMMARY_CSV: the summary as a markdown table.
+bench_markdown() {
+    awk -F, '
+    NR == 1 { next }
+    NR == 2 {
+        print "| scene | size | backend | threads | c | runs | frame time, median [min-max] (s) | rays/s | photon-steps | photon-steps/s | ns/step | CPU-ns/step | steps/ray (max) | peak RSS (MiB) | CPU % | load |"
+        print "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    }
+    {
+        c = ($6 == "-" ? "default" : $6)
+        printf "| %s | %sx%s | %s | %s | %s | %s | %.3f [%.3f-%.3f] | %.0f | %.4g%s | %.4g | %.1f | %s | %.1f (%d) | %.1f | %s | %.2f |\n",
+            $1, $4, $5, $2, $3, c, $7, $8, $9, $10, $14, $12, ($13 == "yes" ? "" : " (varied)"), $15, $16, ($22 == "" ? "n/a" : $22), $17, $18, $19, $20, $21
+    }' "$1"
+}
