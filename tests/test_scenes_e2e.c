@@ -64,6 +64,7 @@
 #include "io/scene.h"
 #include "io/sysconfig.h"
 #include "testutil.h"
+#include "testfs.h"
 
 #define W 49
 #define H 37
@@ -113,30 +114,6 @@ static char g_tmp[256];
 static shot *g_shots[MAX_SHOTS];
 static int g_n_shots;
 
-static void rm_rf(const char *path)
-{
-    struct stat st;
-    if (lstat(path, &st) != 0)
-        return;
-    if (S_ISDIR(st.st_mode)) {
-        DIR *d = opendir(path);
-        struct dirent *e;
-        if (d) {
-            while ((e = readdir(d)) != NULL) {
-                char sub[4096];
-                if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-                    continue;
-                snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
-                rm_rf(sub);
-            }
-            closedir(d);
-        }
-        rmdir(path);
-    } else {
-        unlink(path);
-    }
-}
-
 static int group_setup(void **state)
 {
     (void)state;
@@ -159,7 +136,7 @@ static int group_teardown(void **state)
         free(s);
     }
     g_n_shots = 0;
-    rm_rf(g_tmp);
+    cr_test_rm_rf(g_tmp);
     return 0;
 }
 
