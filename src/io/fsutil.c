@@ -9,7 +9,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
-#include <stdatomic.h>
+#include <stdint.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
@@ -74,9 +74,6 @@ int cr_path_join(char *out, size_t n, const char *dir, const char *name)
     return 0;
 }
 
-/* Distinguishes temporaries made by several threads of one process. */
-static atomic_uint cr_atomic_counter;
-
 int cr_atomic_open(cr_atomic *a, const char *path, cr_err *err)
 {
     const char *slash;
@@ -95,13 +92,12 @@ int cr_atomic_open(cr_atomic *a, const char *path, cr_err *err)
         return cr_err_set(err, "cannot write '%s': the name is a folder", path);
 
     /* open(O_CREAT | O_EXCL) gives the same exclusivity as mkstemp, and
-     * unlike mkstemp's 0600 it lets the umask decide the final mode. A name
-     * clash (a stale temporary of an earlier process with the same pid) just
-     * takes the next counter value. */
+     * unlike mkstemp's 0600 it lets the umask decide the final mode. The name
+     * holds the pid and the address of *a, which differ between concurrent
+     * writers; a clash with a stale temporary just takes the next attempt. */
     for (int attempt = 0; attempt < 100; attempt++) {
-        unsigned n = atomic_fetch_add(&cr_atomic_counter, 1u);
-        int len = snprintf(a->tmp, sizeof a->tmp, "%.*s.%s.tmp.%ld.%u", dirlen, path,
-                           path + dirlen, (long)getpid(), n);
+        int len = snprintf(a->tmp, sizeof a->tmp, "%.*s.%s.tmp.%ld.%lx.%d", dirlen, path,
+                           path + dirlen, (long)getpid(), (unsigned long)(uintptr_t)a, attempt);
         if (len < 0 || (size_t)len >= sizeof a->tmp)
             return cr_err_set(err, "cannot write '%s': path too long", path);
         fd = open(a->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);

@@ -19,9 +19,19 @@
 
 enum cr_log_level { CR_LOG_INFO, CR_LOG_DETAIL, CR_LOG_ERROR };
 
-/* One lock for the console and the log files: lines from several threads
- * never interleave, and the progress state stays consistent. */
-static pthread_mutex_t cr_log_lock = PTHREAD_MUTEX_INITIALIZER;
+/* The log's lock (see cr_log.lock); a NULL log or one never opened has none
+ * and is used from one thread only. */
+static void cr_log_lock(cr_log *lg)
+{
+    if (lg && lg->lock_ready)
+        pthread_mutex_lock(&lg->lock);
+}
+
+static void cr_log_unlock(cr_log *lg)
+{
+    if (lg && lg->lock_ready)
+        pthread_mutex_unlock(&lg->lock);
+}
 
 static const char *const cr_log_tags[] = {"info", "detail", "error"};
 
@@ -31,6 +41,7 @@ int cr_log_open(cr_log *lg, const char *log_dir, int keep_log, int verbose, int 
     char name[128];
 
     memset(lg, 0, sizeof *lg);
+    lg->lock_ready = pthread_mutex_init(&lg->lock, NULL) == 0;
     lg->verbose = verbose;
     lg->quiet = quiet;
     if (!log_dir || !*log_dir)
@@ -73,16 +84,20 @@ void cr_log_close(cr_log *lg)
 {
     if (!lg)
         return;
-    pthread_mutex_lock(&cr_log_lock);
+    cr_log_lock(lg);
     if (lg->progress_len > 0) { /* keep the last progress line visible */
         fputc('\n', stdout);
         fflush(stdout);
         lg->progress_len = 0;
     }
-    pthread_mutex_unlock(&cr_log_lock);
+    cr_log_unlock(lg);
     if (lg->file) {
         fclose(lg->file);
         lg->file = NULL;
+    }
+    if (lg->lock_ready) {
+        pthread_mutex_destroy(&lg->lock);
+        lg->lock_ready = 0;
     }
 }
 
@@ -147,7 +162,7 @@ static void cr_log_line(cr_log *lg, enum cr_log_level level, const char *fmt, va
     len = strlen(msg);
     if (len > 0 && msg[len - 1] == '\n')
         len--; /* the newline is ours to add */
-    pthread_mutex_lock(&cr_log_lock);
+    cr_log_lock(lg);
     if (console) {
         FILE *out = level == CR_LOG_ERROR ? stderr : stdout;
         cr_log_end_progress(lg);
@@ -157,7 +172,7 @@ static void cr_log_line(cr_log *lg, enum cr_log_level level, const char *fmt, va
     }
     if (lg && lg->file)
         cr_log_to_file(lg->file, level, msg, len);
-    pthread_mutex_unlock(&cr_log_lock);
+    cr_log_unlock(lg);
     if (msg != stack_buf)
         free(msg);
 }
@@ -272,7 +287,7 @@ void cr_log_progress(cr_log *lg, const char *fmt, ...)
     len = strcspn(msg, "\n");
     msg[len] = '\0';
 
-    pthread_mutex_lock(&cr_log_lock);
+    cr_log_lock(lg);
     if (isatty(STDOUT_FILENO)) {
         /* Overwrite the previous progress line, padding over its tail. */
         int old = lg ? lg->progress_len : 0;
@@ -286,7 +301,7 @@ void cr_log_progress(cr_log *lg, const char *fmt, ...)
         printf("%s\n", msg);
         fflush(stdout);
     }
-    pthread_mutex_unlock(&cr_log_lock);
+    cr_log_unlock(lg);
     if (msg != stack_buf)
         free(msg);
 }

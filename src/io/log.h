@@ -9,6 +9,7 @@
 #ifndef CR_IO_LOG_H
 #define CR_IO_LOG_H
 
+#include <pthread.h>
 #include <stdio.h>
 
 #include "error.h"
@@ -23,6 +24,10 @@ typedef struct cr_log {
     int progress_decile[8];    /* with 1 + the last decile printed for it (0: free) */
     int progress_next;         /* slot to reuse next */
     double progress_time;      /* monotonic s of the last line printed without a % */
+    /* one lock per log for its console and file lines: lines from several
+     * threads never interleave; set up by cr_log_open, ended by cr_log_close */
+    pthread_mutex_t lock;
+    int lock_ready;
 } cr_log;
 
 /* Open the log under log_dir (created if missing; NULL or "": no log file,
