@@ -4,12 +4,12 @@
 # gallery shows into docs/images/gallery/. Animated scenes are rendered with
 # the frame count that puts a frame on the paper's figure (-f 18: frame 8 is
 # theta = 85 deg; -f 36: frame 18 is phi = 180 deg), so they take a while on
-# the CPU (about 45 s per 320x240 frame on 2 cores).
+# the CPU (15 to 50 s per 320x240 frame on 2 shared cores; about 70 min in all).
 #
-# usage: tools/render-gallery.sh [curray binary]   (default: build-e2e/curray)
+# usage: tools/render-gallery.sh [curray binary]   (default: build/curray)
 set -eu
 cd "$(dirname "$0")/.."
-bin=${1:-build-e2e/curray}
+bin=${1:-build/curray}
 W=320
 H=240
 dst=docs/images/gallery
@@ -25,30 +25,32 @@ pick() { # scene-name source-file target-name
     cp "out/gallery/$1/$2" "$dst/$3"
 }
 
-render scenes/demo.yml 1 ic
+render scenes/demo.yml 1 c
 pick demo c_0.png demo.png
-render scenes/listing-7.1.2-starry-sky.yml 1 ic
+render scenes/listing-7.1.2-starry-sky.yml 1 c
 pick listing-7.1.2-starry-sky c_0.png listing-7.1.2-starry-sky.png
-render scenes/listing-7.1.3-sphere-around-horizon.yml 1 ic
+render scenes/listing-7.1.3-sphere-around-horizon.yml 1 c
 pick listing-7.1.3-sphere-around-horizon c_0.png listing-7.1.3-sphere-around-horizon.png
-render scenes/listing-7.1.4-redshift.yml 1 icr
+render scenes/listing-7.1.4-redshift.yml 1 cr
 pick listing-7.1.4-redshift c_0.png listing-7.1.4-redshift.png
 pick listing-7.1.4-redshift r_0.png listing-7.1.4-redshift-r.png
-render scenes/listing-7.1.5-blueshift.yml 1 icr
+render scenes/listing-7.1.5-blueshift.yml 1 cr
 pick listing-7.1.5-blueshift c_0.png listing-7.1.5-blueshift.png
 pick listing-7.1.5-blueshift r_0.png listing-7.1.5-blueshift-r.png
-render scenes/grid-sky-kerr.yml 1 ic
+render scenes/grid-sky-kerr.yml 1 c
 pick grid-sky-kerr c_0.png grid-sky-kerr.png
-render scenes/listing-7.1.1-schwarzschild-disc.yml 18 ic
+render scenes/fig-8.1.1-axis.yml 1 c
+pick fig-8.1.1-axis c_0.png fig-8.1.1-axis.png
+render scenes/listing-7.1.1-schwarzschild-disc.yml 18 c
 pick listing-7.1.1-schwarzschild-disc c_0.png listing-7.1.1-schwarzschild-disc-theta5.png
 pick listing-7.1.1-schwarzschild-disc c_8.png listing-7.1.1-schwarzschild-disc-theta85.png
-render scenes/listing-7.2.1-kerr-disc.yml 18 ic
+render scenes/listing-7.2.1-kerr-disc.yml 18 c
 pick listing-7.2.1-kerr-disc c_0.png listing-7.2.1-kerr-disc-theta5.png
 pick listing-7.2.1-kerr-disc c_8.png listing-7.2.1-kerr-disc-theta85.png
-render scenes/listing-7.1.6-sphere-orbit.yml 36 ic
+render scenes/listing-7.1.6-sphere-orbit.yml 36 c
 pick listing-7.1.6-sphere-orbit c_0.png listing-7.1.6-sphere-orbit-phi0.png
 pick listing-7.1.6-sphere-orbit c_9.png listing-7.1.6-sphere-orbit-phi90.png
 pick listing-7.1.6-sphere-orbit c_18.png listing-7.1.6-sphere-orbit-phi180.png
-render scenes/listing-7.3.1-reissner-nordstrom-sphere.yml 36 ic
+render scenes/listing-7.3.1-reissner-nordstrom-sphere.yml 36 c
 pick listing-7.3.1-reissner-nordstrom-sphere c_18.png listing-7.3.1-reissner-nordstrom-sphere.png
 echo "gallery: $(du -ch "$dst"/*.png | tail -1)"

@@ -41,11 +41,17 @@ typedef struct cr_metric {
 
 /* A static observer at BL position (r, theta, phi). roll, pitch, yaw rotate
  * the camera (section 6.4, see camera.h); hfov, vfov are the full fields of
- * view in (0, pi). All angles in radians. */
+ * view in (0, pi). All angles in radians.
+ * r = +INFINITY is the observer at infinity (Bardeen 1973): its image is the
+ * plane of impact coordinates (alpha, beta), of full extents hextent x
+ * vextent in units of M, centred on the hole; only roll applies there
+ * (pitch = yaw = 0) and hfov, vfov are unused. For a finite r, hextent and
+ * vextent are unused. */
 typedef struct cr_observer {
     double r, theta, phi;
     double roll, pitch, yaw;
     double hfov, vfov;
+    double hextent, vextent;
 } cr_observer;
 
 /* Thin accretion disc in the plane theta = pi/2 between BL radii r_in < r_out,
@@ -95,6 +101,17 @@ typedef enum cr_outcome {
     CR_OUT_COUNT_ = 7
 } cr_outcome;
 
+/* The integrator that traces the rays (raytracer.integrator).
+ *   CR_INTEG_MINO: Mino time, w = 1/r, the polar motion as a unit vector,
+ *     Dormand-Prince 5(4) with error control (mino.h); the default.
+ *   CR_INTEG_RK4: the paper's fixed-rule RK4 in the affine parameter
+ *     (geodesic.h), kept to reproduce the paper. */
+typedef enum cr_integrator {
+    CR_INTEG_MINO = 0,
+    CR_INTEG_RK4 = 1,
+    CR_INTEG_COUNT_ = 2
+} cr_integrator;
+
 /* Everything needed to trace every pixel of one frame: plain data, no
  * pointers but the sphere array and the sky texture (both read-only).
  * Filled by the scene module for frame k, then completed by
@@ -111,7 +128,10 @@ typedef struct cr_frame {
     int width, height;
 
     /* raytracer settings (system configuration) */
-    double step_multiplier; /* c of (6.6.1), > 0 */
+    int integrator;         /* cr_integrator */
+    double tolerance;       /* CR_INTEG_MINO: relative and absolute local
+                               error tolerance per step, > 0 */
+    double step_multiplier; /* c of (6.6.1), > 0 (CR_INTEG_RK4) */
     double horizon_epsilon; /* epsilon of 6.8, > 0 */
     long max_steps;         /* steps before CR_OUT_LIMIT */
     double max_turns;       /* accumulated |dphi|/2pi before CR_OUT_LIMIT */

@@ -20,6 +20,8 @@
 #define CR_DEFAULT_HORIZON_EPSILON 0.5e-2
 #define CR_DEFAULT_MAX_STEPS 200000L
 #define CR_DEFAULT_MAX_TURNS 50.0
+#define CR_DEFAULT_INTEGRATOR CR_INTEG_MINO
+#define CR_DEFAULT_TOLERANCE 1e-8
 
 /* The scene boundary when nothing else asks for more: beyond every photon
  * orbit of a Kerr-Newman hole (r <= 4M), so an outgoing ray there escapes. */

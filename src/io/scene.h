@@ -81,6 +81,8 @@ void cr_scene_free(cr_scene *s);
 
 /* Settings that are not part of the scene but enter every frame. */
 typedef struct cr_trace_settings {
+    int integrator;   /* cr_integrator */
+    double tolerance; /* > 0 (CR_INTEG_MINO) */
     double step_multiplier;
     double horizon_epsilon;
     long max_steps;
