@@ -1,6 +1,8 @@
 /* The system configuration (appendix E.2).
  *
  * - built-in defaults (CR_DEFAULT_* of trace.h), for no file content at all;
+ * - raytracer.integrator by name (cr_integrator_name / cr_integrator_parse
+ *   agree) and raytracer.tolerance;
  * - listing E.1 as a file; every key; the gpus rule (no section: device 0;
  *   a section: only the listed enabled devices); booleans in every spelling;
  * - every error path names the file, line:col and key, and leaves the
@@ -47,6 +49,8 @@ static void assert_defaults(const cr_sysconfig *c)
     for (i = 1; i < CR_MAX_GPUS; i++)
         assert_int_equal(c->gpu_enabled[i], 0);
     assert_int_equal(c->cpu_threads, 0);
+    assert_int_equal(c->integrator, CR_DEFAULT_INTEGRATOR);
+    assert_true(c->tolerance == CR_DEFAULT_TOLERANCE);
     assert_true(c->horizon_epsilon == CR_DEFAULT_HORIZON_EPSILON);
     assert_true(c->step_multiplier == CR_DEFAULT_STEP_MULTIPLIER);
     assert_true(c->max_steps == CR_DEFAULT_MAX_STEPS);
@@ -68,6 +72,8 @@ static void test_defaults(void **state)
     assert_defaults(&c);
     assert_true(c.horizon_epsilon == 0.5e-2);
     assert_true(c.step_multiplier == 1.0 / 32.0);
+    assert_int_equal(c.integrator, CR_INTEG_MINO);
+    assert_true(c.tolerance == 1e-8);
     for (i = 0; i < sizeof empties / sizeof empties[0]; i++) {
         memset(&c, 0x5a, sizeof c);
         load_ok(empties[i], &c);
@@ -117,6 +123,8 @@ static void test_every_key(void **state)
             "  step_multiplier: 0.0625\n"
             "  max_steps: 5000\n"
             "  max_turns: 2.5\n"
+            "  integrator: rk4\n"
+            "  tolerance: 1e-6\n"
             "log:\n"
             "  verbose: True\n"
             "  quiet: NO\n"
@@ -130,6 +138,8 @@ static void test_every_key(void **state)
     assert_true(c.step_multiplier == 0.0625);
     assert_true(c.max_steps == 5000);
     assert_true(c.max_turns == 2.5);
+    assert_int_equal(c.integrator, CR_INTEG_RK4);
+    assert_true(c.tolerance == 1e-6);
     assert_int_equal(c.verbose, 1);
     assert_int_equal(c.quiet, 0);
     assert_int_equal(c.keep_log, 1);
@@ -179,6 +189,50 @@ static void test_booleans(void **state)
     }
 }
 
+static void test_integrator(void **state)
+{
+    static const struct {
+        const char *text;
+        int value;
+    } cases[] = {{"mino", CR_INTEG_MINO}, {"rk4", CR_INTEG_RK4},   {"RK4", CR_INTEG_RK4},
+                 {"Mino", CR_INTEG_MINO}, {"\"rk4\"", CR_INTEG_RK4}, {"'mino'", CR_INTEG_MINO}};
+    size_t i;
+    int k;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char text[128];
+        cr_sysconfig c;
+        snprintf(text, sizeof text, "raytracer: {integrator: %s}\n", cases[i].text);
+        load_ok(text, &c);
+        assert_int_equal(c.integrator, cases[i].value);
+        assert_true(c.tolerance == CR_DEFAULT_TOLERANCE);
+    }
+    /* the names info.txt shows are the names the file takes */
+    for (k = 0; k < CR_INTEG_COUNT_; k++) {
+        const char *name = cr_integrator_name(k);
+        assert_int_equal(cr_integrator_parse(name, strlen(name)), k);
+        assert_non_null(strstr(cr_integrator_names(), name));
+    }
+    assert_string_equal(cr_integrator_name(CR_INTEG_MINO), "mino");
+    assert_string_equal(cr_integrator_name(CR_INTEG_RK4), "rk4");
+    assert_string_equal(cr_integrator_name(-1), "unknown");
+    assert_string_equal(cr_integrator_name(CR_INTEG_COUNT_), "unknown");
+    assert_int_equal(cr_integrator_parse(" rk4\t", 5), CR_INTEG_RK4);
+    assert_int_equal(cr_integrator_parse("rk4x", 3), CR_INTEG_RK4);
+    assert_int_equal(cr_integrator_parse("rk", 2), -1);
+    assert_int_equal(cr_integrator_parse("rk4\0", 4), -1);
+    assert_int_equal(cr_integrator_parse("", 0), -1);
+    /* tolerance */
+    {
+        cr_sysconfig c;
+        load_ok("raytracer:\n  tolerance: 1e-10\n", &c);
+        assert_true(c.tolerance == 1e-10);
+        assert_int_equal(c.integrator, CR_DEFAULT_INTEGRATOR);
+        load_ok("raytracer: {tolerance: 0.5}\n", &c);
+        assert_true(c.tolerance == 0.5);
+    }
+}
+
 typedef struct err_case {
     const char *text;
     const char *start;
@@ -220,7 +274,34 @@ static void test_errors(void **state)
         {"raytracer:\n  max_turns: 0\n", "config.yml:2:14: raytracer.max_turns: ",
          "expected a positive number"},
         {"raytracer:\n  max_turn: 5\n", "config.yml:2:3: unknown key 'max_turn' in raytracer",
-         "(expected one of: horizon_epsilon, step_multiplier, max_steps, max_turns)"},
+         "(expected one of: horizon_epsilon, step_multiplier, max_steps, max_turns, integrator, "
+         "tolerance)"},
+        {"raytracer:\n  integrator: euler\n", "config.yml:2:15: raytracer.integrator: ",
+         "unknown integrator \"euler\" (expected one of: mino, rk4)"},
+        {"raytracer:\n  integrator: rk45\n", "config.yml:2:15: raytracer.integrator: ",
+         "unknown integrator \"rk45\" (expected one of: mino, rk4)"},
+        {"raytracer:\n  integrator: 4\n", "config.yml:2:15: raytracer.integrator: ",
+         "unknown integrator \"4\""},
+        {"raytracer:\n  integrator: [rk4]\n", "config.yml:2:15: raytracer.integrator: ",
+         "expected an integrator name (one of: mino, rk4), got a list of 1 item"},
+        {"raytracer:\n  integrator:\n", "config.yml:2:",
+         "raytracer.integrator: expected an integrator name (one of: mino, rk4), got nothing"},
+        {"raytracer:\n  tolerance: 0\n", "config.yml:2:14: raytracer.tolerance: ",
+         "expected a positive number, got \"0\""},
+        {"raytracer:\n  tolerance: -1e-8\n", "config.yml:2:14: raytracer.tolerance: ",
+         "expected a positive number, got \"-1e-8\""},
+        {"raytracer:\n  tolerance: .inf\n", "config.yml:2:14: raytracer.tolerance: ",
+         "expected a finite number, got \".inf\""},
+        {"raytracer:\n  tolerance: nan\n", "config.yml:2:14: raytracer.tolerance: ",
+         "expected a finite number, got \"nan\""},
+        {"raytracer:\n  tolerance: 1e999\n", "config.yml:2:14: raytracer.tolerance: ",
+         "expected a finite number"},
+        {"raytracer:\n  tolerance: tight\n", "config.yml:2:14: raytracer.tolerance: ",
+         "expected a number, got \"tight\""},
+        {"raytracer:\n  tolerance: 1e-8 M\n", "config.yml:2:14: raytracer.tolerance: ",
+         "without a unit"},
+        {"raytracer:\n  tolerance: [1e-8]\n", "config.yml:2:14: raytracer.tolerance: ",
+         "got a list of 1 item"},
         {"log:\n  verbose: maybe\n", "config.yml:2:12: log.verbose: ",
          "expected true or false (or yes/no, on/off), got \"maybe\""},
         {"log:\n  verbose: 1\n", "config.yml:2:12: log.verbose: ", "expected true or false"},
@@ -293,7 +374,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults),    cmocka_unit_test(test_listing_e1),
         cmocka_unit_test(test_every_key),   cmocka_unit_test(test_gpus_rule),
-        cmocka_unit_test(test_booleans),    cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_booleans),    cmocka_unit_test(test_integrator),
+        cmocka_unit_test(test_errors),
         cmocka_unit_test(test_errors_files),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -16,11 +16,55 @@
 #define OPT(k) {k, 0, 0, NULL, NULL, 0}
 #define REQ(k) {k, 1, 0, NULL, NULL, 0}
 
+/* Indexed by cr_integrator. */
+static const char *const integrator_names[CR_INTEG_COUNT_] = {"mino", "rk4"};
+
+const char *cr_integrator_name(int integrator)
+{
+    if (integrator < 0 || integrator >= CR_INTEG_COUNT_)
+        return "unknown";
+    return integrator_names[integrator];
+}
+
+const char *cr_integrator_names(void)
+{
+    return "mino, rk4";
+}
+
+static char ascii_lower(char c)
+{
+    return (c >= 'A' && c <= 'Z') ? (char)(c - 'A' + 'a') : c;
+}
+
+int cr_integrator_parse(const char *text, size_t len)
+{
+    int i;
+    while (len > 0 && (text[0] == ' ' || text[0] == '\t')) {
+        text++;
+        len--;
+    }
+    while (len > 0 && (text[len - 1] == ' ' || text[len - 1] == '\t'))
+        len--;
+    for (i = 0; i < CR_INTEG_COUNT_; i++) {
+        const char *w = integrator_names[i];
+        size_t k;
+        if (strlen(w) != len)
+            continue;
+        for (k = 0; k < len && ascii_lower(text[k]) == w[k]; k++)
+            ;
+        if (k == len)
+            return i;
+    }
+    return -1;
+}
+
 void cr_sysconfig_defaults(cr_sysconfig *c)
 {
     memset(c, 0, sizeof *c);
     c->gpu_enabled[0] = 1;
     c->cpu_threads = 0;
+    c->integrator = CR_DEFAULT_INTEGRATOR;
+    c->tolerance = CR_DEFAULT_TOLERANCE;
     c->horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
     c->step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
     c->max_steps = CR_DEFAULT_MAX_STEPS;
@@ -41,6 +85,30 @@ static int get_positive(cr_yaml *y, const cr_yaml_field *f, const char *section,
     if (!(v > 0.0)) {
         cr_yaml_describe(f->value, got, sizeof got);
         return cr_yaml_fail(y, f->value, path, err, "expected a positive number, got %s", got);
+    }
+    *out = v;
+    return 0;
+}
+
+/* raytracer.integrator: one of the names of cr_integrator_name. */
+static int get_integrator(cr_yaml *y, const cr_yaml_field *f, int *out, cr_err *err)
+{
+    char got[96];
+    int v = -1;
+    if (!f->value)
+        return 0;
+    if (f->value->type == YAML_SCALAR_NODE && !cr_yaml_is_null(f->value))
+        v = cr_integrator_parse((const char *)f->value->data.scalar.value,
+                                f->value->data.scalar.length);
+    if (v < 0) {
+        cr_yaml_describe(f->value, got, sizeof got);
+        if (f->value->type != YAML_SCALAR_NODE || cr_yaml_is_null(f->value))
+            return cr_yaml_fail(y, f->value, "raytracer.integrator", err,
+                                "expected an integrator name (one of: %s), got %s",
+                                cr_integrator_names(), got);
+        return cr_yaml_fail(y, f->value, "raytracer.integrator", err,
+                            "unknown integrator %s (expected one of: %s)", got,
+                            cr_integrator_names());
     }
     *out = v;
     return 0;
@@ -110,11 +178,13 @@ static int parse_cpu(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_e
 
 static int parse_raytracer(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_err *err)
 {
-    enum { EPS, MULT, STEPS, TURNS, N };
+    enum { EPS, MULT, STEPS, TURNS, INTEG, TOL, N };
     cr_yaml_field f[N] = {OPT("horizon_epsilon"), OPT("step_multiplier"), OPT("max_steps"),
-                          OPT("max_turns")};
+                          OPT("max_turns"),       OPT("integrator"),      OPT("tolerance")};
     const char *p = "raytracer";
     if (cr_yaml_fields(y, sec->value, p, sec->key_node, f, N, err) ||
+        get_integrator(y, &f[INTEG], &c->integrator, err) ||
+        get_positive(y, &f[TOL], p, &c->tolerance, err) ||
         get_positive(y, &f[EPS], p, &c->horizon_epsilon, err) ||
         get_positive(y, &f[MULT], p, &c->step_multiplier, err) ||
         get_positive(y, &f[TURNS], p, &c->max_turns, err))

@@ -2,8 +2,9 @@
  *
  * Built-in defaults apply to every key the file leaves out; the command line
  * overrides the file (-v -q -a). Keys: gpus.<n>.enabled, cpu.threads,
- * raytracer.horizon_epsilon, raytracer.step_multiplier, raytracer.max_steps,
- * raytracer.max_turns, log.verbose, log.quiet, log.keep_log, auto_accept.
+ * raytracer.integrator, raytracer.tolerance, raytracer.horizon_epsilon,
+ * raytracer.step_multiplier, raytracer.max_steps, raytracer.max_turns,
+ * log.verbose, log.quiet, log.keep_log, auto_accept.
  */
 #ifndef CR_IO_SYSCONFIG_H
 #define CR_IO_SYSCONFIG_H
@@ -21,12 +22,26 @@ typedef struct cr_sysconfig {
      * except that with no gpus section at all device 0 is enabled */
     int gpu_enabled[CR_MAX_GPUS];
     int cpu_threads;        /* 0 = number of online cores */
+    int integrator;         /* cr_integrator, default CR_DEFAULT_INTEGRATOR (mino) */
+    double tolerance;       /* > 0, default CR_DEFAULT_TOLERANCE; mino only */
     double horizon_epsilon; /* > 0, default 0.5e-2 */
-    double step_multiplier; /* > 0, default 1/32 */
+    double step_multiplier; /* > 0, default 1/32; rk4 only */
     long max_steps;         /* > 0 */
     double max_turns;       /* > 0 */
     int verbose, quiet, keep_log, auto_accept;
 } cr_sysconfig;
+
+/* The configuration name of an integrator ("mino", "rk4"), the same word
+ * that raytracer.integrator takes and info.txt shows; "unknown" for a value
+ * outside cr_integrator. */
+const char *cr_integrator_name(int integrator);
+
+/* The cr_integrator named by text[0..len) (any letter case, surrounding
+ * blanks ignored), or -1 when it names none. */
+int cr_integrator_parse(const char *text, size_t len);
+
+/* The valid names, "mino, rk4", for messages. */
+const char *cr_integrator_names(void);
 
 /* Built-in defaults. */
 void cr_sysconfig_defaults(cr_sysconfig *c);
