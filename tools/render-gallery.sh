@@ -3,13 +3,29 @@
 # real command line, into out/gallery/<scene>/, then copy the frames the
 # gallery shows into docs/images/gallery/. Animated scenes are rendered with
 # the frame count that puts a frame on the paper's figure (-f 18: frame 8 is
-# theta = 85 deg; -f 36: frame 18 is phi = 180 deg), so they take a while on
-# the CPU (15 to 50 s per 320x240 frame on 2 shared cores; about 70 min in all).
+# theta = 85 deg; -f 36: frame 18 is phi = 180 deg), and every frame of a run
+# is rendered: 18 + 18 + 36 + 36 frames of the animated scenes, 7 of the rest.
+# Each render prints its time.
 #
-# usage: tools/render-gallery.sh [curray binary]   (default: build/curray)
+# usage: tools/render-gallery.sh [curray binary]
+#   default: build/curray, which `make` builds
 set -eu
+bin=${1:-}
+case $bin in
+"" | /*) ;;
+*) bin=$PWD/$bin ;; # relative to where the script was started
+esac
 cd "$(dirname "$0")/.."
-bin=${1:-build/curray}
+bin=${bin:-build/curray}
+if [ ! -x "$bin" ]; then
+    if [ -e "$bin" ]; then
+        echo "render-gallery.sh: '$bin' is not executable" >&2
+    else
+        echo "render-gallery.sh: no curray binary at '$bin'; run 'make' first, or name the binary:" >&2
+        echo "  tools/render-gallery.sh path/to/curray" >&2
+    fi
+    exit 1
+fi
 W=320
 H=240
 dst=docs/images/gallery
