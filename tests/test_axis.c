@@ -62,7 +62,11 @@ static int on_edge(const cr_pixel *px, int w, int h, int i, int j, int colour)
     return 0;
 }
 
-static void test_figure_8_1_1(void **state)
+/* Under RK4 the step count of the centre column must match its neighbours
+ * (the axis term of the step rule); under Mino the step count follows the
+ * ray's impact parameter, which changes fast at the image centre, so there
+ * the check is on the error monitor only. */
+static void figure_8_1_1(int integrator)
 {
     enum { N = 31 };
     char path[1024];
@@ -71,10 +75,10 @@ static void test_figure_8_1_1(void **state)
     cr_frame f;
     cr_pixel px[N * N];
     int i, j, errors = 0, asym = 0, seam = 0;
-    (void)state;
     snprintf(path, sizeof path, "%s/scenes/fig-8.1.1-axis.yml", CR_SOURCE_DIR);
     if (cr_scene_load(path, &s, &err) || cr_scene_frame(&s, 0, 1, N, N, NULL, &f, NULL, &err))
         fail_msg("%s", err.msg);
+    f.integrator = integrator;
     render_frame(&f, px);
     for (j = 0; j < N; j++)
         for (i = 0; i < N; i++) {
@@ -86,22 +90,32 @@ static void test_figure_8_1_1(void **state)
     for (j = 0; j < N; j++) {
         const cr_pixel *c = &px[j * N + N / 2], *l = c - 1, *r = c + 1;
         double st = 0.5 * (l->steps + r->steps), em = fmax(l->err_mean, r->err_mean);
+        int bad_steps = integrator == CR_INTEG_RK4 && fabs(c->steps - st) > 0.1 * st;
+        double floor = integrator == CR_INTEG_RK4 ? 1e-12 : f.tolerance;
         if ((differs(c, l, 0) || differs(c, r, 0)) && !on_edge(px, N, N, N / 2, j, 0))
             seam++;
         if (c->outcome == l->outcome && c->outcome == r->outcome &&
-            (fabs(c->steps - st) > 0.1 * st || c->err_mean > 10.0 * em + 1e-12)) {
-            print_message("row %d: centre %u steps, null error %.3g; neighbours %u/%u, %.3g\n", j,
-                          c->steps, c->err_mean, l->steps, r->steps, em);
+            (bad_steps || c->err_mean > 10.0 * em + floor)) {
+            print_message("row %d: centre %u steps, error monitor %.3g; neighbours %u/%u, %.3g\n",
+                          j, c->steps, c->err_mean, l->steps, r->steps, em);
             seam++;
         }
     }
-    print_message("figure 8.1.1: %d error pixels, %d asymmetric, %d seam pixels; centre pixel %s\n",
-                  errors, asym, seam, px[(N / 2) * N + N / 2].outcome == CR_OUT_HORIZON ? "horizon"
-                                                                                      : "?");
+    print_message("figure 8.1.1 (%s): %d error pixels, %d asymmetric, %d seam pixels; centre "
+                  "pixel %s\n",
+                  integrator == CR_INTEG_RK4 ? "rk4" : "mino", errors, asym, seam,
+                  px[(N / 2) * N + N / 2].outcome == CR_OUT_HORIZON ? "horizon" : "?");
     assert_int_equal(errors, 0);
     assert_int_equal(asym, 0);
     assert_int_equal(seam, 0);
     cr_scene_free(&s);
+}
+
+static void test_figure_8_1_1(void **state)
+{
+    (void)state;
+    figure_8_1_1(CR_INTEG_MINO);
+    figure_8_1_1(CR_INTEG_RK4);
 }
 
 static void disc_frame(cr_frame *f, double a, double q, double th_deg, int w, int h, int sectors)
@@ -226,18 +240,26 @@ static void test_step_and_turn_limits(void **state)
     assert_true(p.color.r == f.horizon_color.r && p.color.g == f.horizon_color.g &&
                 p.color.b == f.horizon_color.b);
 
-    disc_frame(&f, 0.5, 0.0, 60.0, 16, 16, 12);
-    f.max_steps = 300;
-    render_frame(&f, px);
-    for (i = 0; i < 16 * 16; i++) {
-        assert_true(px[i].steps <= 300);
-        if (px[i].outcome == CR_OUT_LIMIT) {
-            assert_int_equal(px[i].steps, 300);
-            limited++;
+    /* a step limit below what most rays need: 300 under RK4, 8 under Mino */
+    for (i = 0; i < 2; i++) {
+        int integ = i ? CR_INTEG_RK4 : CR_INTEG_MINO, k;
+        unsigned lim = i ? 300 : 8;
+        disc_frame(&f, 0.5, 0.0, 60.0, 16, 16, 12);
+        f.integrator = integ;
+        f.max_steps = lim;
+        render_frame(&f, px);
+        limited = 0;
+        for (k = 0; k < 16 * 16; k++) {
+            assert_true(px[k].steps <= lim);
+            if (px[k].outcome == CR_OUT_LIMIT) {
+                assert_int_equal(px[k].steps, lim);
+                limited++;
+            }
         }
+        print_message("%s, max_steps = %u: %d of 256 rays ended as limit\n", i ? "rk4" : "mino",
+                      lim, limited);
+        assert_true(limited > 100);
     }
-    print_message("max_steps = 300: %d of 256 rays ended as limit\n", limited);
-    assert_true(limited > 100);
 }
 
 int main(void)

@@ -58,21 +58,36 @@ CR_HD static inline void cr_rotate_rpy(double (*v)[3], int n, double roll, doubl
 }
 
 /* Fill the observer-derived fields of f: tetrad, rotated camera axes, screen
- * half-extents, sqrt(-g_tt) at the observer, on-axis flag. Requires a static
- * observer outside the ergosurface (checked by the scene validation). */
+ * half-extents, sqrt(-g_tt) at the observer, on-axis and at-infinity flags.
+ * Requires a static observer outside the ergosurface (checked by the scene
+ * validation), or one at r = +INFINITY (no tetrad needed there). */
 CR_HD static inline void cr_camera_prepare(cr_frame *f)
 {
     const cr_observer *o = &f->observer;
     cr_metric_point p;
     int a, b;
     double s = sin(o->theta);
-    cr_metric_eval(&f->metric, o->r, o->theta, &p);
     for (a = 0; a < 4; a++)
         for (b = 0; b < 4; b++)
             f->tetrad[a][b] = 0.0;
     f->obs_on_axis = 0;
     if (fabs(s) < 1e-10)
         f->obs_on_axis = cos(o->theta) > 0.0 ? 1 : -1;
+    /* forward, right, up */
+    f->cam[0][0] = -1.0; f->cam[0][1] = 0.0;  f->cam[0][2] = 0.0;
+    f->cam[1][0] = 0.0;  f->cam[1][1] = 0.0;  f->cam[1][2] = 1.0;
+    f->cam[2][0] = 0.0;  f->cam[2][1] = -1.0; f->cam[2][2] = 0.0;
+    f->obs_at_inf = isinf(o->r) && o->r > 0.0;
+    if (f->obs_at_inf) {
+        /* Bardeen's image plane: the screen coordinates are the impact
+         * coordinates (alpha, beta) in M; only roll turns it. */
+        cr_rotate_rpy(f->cam, 3, o->roll, 0.0, 0.0);
+        f->obs_sqrt_mgtt = 1.0;
+        f->tan_half_h = 0.5 * o->hextent;
+        f->tan_half_v = 0.5 * o->vextent;
+        return;
+    }
+    cr_metric_eval(&f->metric, o->r, o->theta, &p);
     f->obs_sqrt_mgtt = sqrt(-p.g_tt);
     f->tetrad[0][0] = 1.0 / f->obs_sqrt_mgtt;
     f->tetrad[1][1] = 1.0 / sqrt(p.g_rr);
@@ -82,24 +97,30 @@ CR_HD static inline void cr_camera_prepare(cr_frame *f)
         f->tetrad[3][0] = -(p.g_tph / p.g_tt) / n;
         f->tetrad[3][3] = 1.0 / n;
     }
-    /* forward, right, up */
-    f->cam[0][0] = -1.0; f->cam[0][1] = 0.0;  f->cam[0][2] = 0.0;
-    f->cam[1][0] = 0.0;  f->cam[1][1] = 0.0;  f->cam[1][2] = 1.0;
-    f->cam[2][0] = 0.0;  f->cam[2][1] = -1.0; f->cam[2][2] = 0.0;
     cr_rotate_rpy(f->cam, 3, o->roll, o->pitch, o->yaw);
     f->tan_half_h = tan(0.5 * o->hfov);
     f->tan_half_v = tan(0.5 * o->vfov);
 }
 
+/* Screen coordinates of pixel (i, j): on the screen at unit distance of a
+ * finite observer, or the impact coordinates (alpha, beta) in M of the
+ * observer at infinity (then tan_half_h, tan_half_v are the half extents). */
+CR_HD static inline void cr_camera_screen(const cr_frame *f, double i, double j, double *sx,
+                                          double *sy)
+{
+    *sx = (2.0 * (i + 0.5) / f->width - 1.0) * f->tan_half_h;
+    *sy = (1.0 - 2.0 * (j + 0.5) / f->height) * f->tan_half_v;
+}
+
 /* Unit direction, in the local (e_r, e_th, e_ph) basis, in which pixel (i, j)
- * looks. */
+ * looks (finite observers). */
 CR_HD static inline void cr_camera_pixel_dir(const cr_frame *f, double i, double j,
                                              double n[3])
 {
-    double sx = (2.0 * (i + 0.5) / f->width - 1.0) * f->tan_half_h;
-    double sy = (1.0 - 2.0 * (j + 0.5) / f->height) * f->tan_half_v;
+    double sx, sy;
     double len;
     int k;
+    cr_camera_screen(f, i, j, &sx, &sy);
     for (k = 0; k < 3; k++)
         n[k] = f->cam[0][k] + sx * f->cam[1][k] + sy * f->cam[2][k];
     len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);

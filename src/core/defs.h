@@ -138,7 +138,14 @@ typedef struct cr_frame {
 
     /* derived */
     double r_stop;        /* r+ + epsilon */
-    double r_max;         /* scene boundary (6.8, 6.10) */
+    double r_max;         /* scene boundary (6.8, 6.10); INFINITY for the
+                             observer at infinity */
+    double w_stop;        /* 1 / r_stop (CR_INTEG_MINO) */
+    double w_sky;         /* CR_INTEG_MINO: an outgoing ray ends as sky at
+                             w = 1/r <= w_sky; 0 (at infinity) when the sky
+                             image has no boundary or the observer is at
+                             infinity, else 1 / r_max as for RK4 */
+    int obs_at_inf;       /* observer.r is +INFINITY */
     double obs_sqrt_mgtt; /* sqrt(-g_tt) at the observer */
     double tan_half_h, tan_half_v;
     double cam[3][3];     /* camera forward, right, up in the observer's local

@@ -1,18 +1,29 @@
 /* curray core: tracing one ray, and cr_trace_pixel, the ONE implementation
  * both backends run for every pixel.
  *
- * Loop (chapter 6): from the observer's state, repeat
- *   break conditions (6.8): r <= r+ + eps -> horizon; r >= r_max moving
- *     outward -> sky; step or turn limit -> limit;
- *   h by (6.6.1); one RK4 step; non-finite result -> retry smaller, then error;
- *   events inside the step: the disc plane theta = pi/2 and every sphere
- *     surface are located by root finding on partial RK4 steps from the
- *     step's start, and the earliest hit ends the ray;
- *   continue through the polar axis; accumulate the null error (6.7.1).
+ * One loop (chapter 6) for both integrators (frame field integrator): from
+ * the observer's state, repeat
+ *   break conditions (6.8): at the horizon stop -> horizon; beyond the sky
+ *     radius moving outward -> sky; step or turn limit -> limit;
+ *   one step (cr_ray_advance):
+ *     CR_INTEG_RK4: h by (6.6.1), one RK4 step in the affine parameter,
+ *       non-finite result -> retry smaller, then error;
+ *     CR_INTEG_MINO: one accepted Dormand-Prince 5(4) step in Mino time
+ *       (mino.h), repeated smaller while its error estimate exceeds the
+ *       tolerance;
+ *   events inside the step (cr_ray_state_at gives the state at any fraction
+ *     of it: partial RK4 steps from its start, or the DP5 dense output): the
+ *     disc plane theta = pi/2 and every sphere surface are located by root
+ *     finding, and the earliest hit ends the ray; under Mino the crossing of
+ *     the sky radius is located the same way;
+ *   continue through the polar axis (RK4; the Mino state passes it
+ *     smoothly); accumulate the error monitor: the null error (6.7.1) under
+ *     RK4, the first-integral residual of mino.h under Mino.
  */
 #ifndef CR_CORE_TRACE_H
 #define CR_CORE_TRACE_H
 
+#include "mino.h"
 #include "objects.h"
 
 /* Defaults of the raytracer settings (E.2). */
@@ -28,13 +39,16 @@
 #define CR_MIN_R_MAX_OVER_M 6.0
 
 /* Complete the derived fields of a frame whose scene and settings are set.
- * Requires a validated scene (a horizon, a static observer outside it).
- * Spheres must already be prepared (cr_sphere_prepare). */
+ * Requires a validated scene (a horizon, a static observer outside the
+ * ergosurface or at infinity). Spheres must already be prepared
+ * (cr_sphere_prepare). */
 CR_HD static inline void cr_frame_prepare(cr_frame *f)
 {
-    double rm = f->observer.r;
+    int at_inf = isinf(f->observer.r) && f->observer.r > 0.0;
+    double rm = at_inf ? 0.0 : f->observer.r;
     int k;
     f->r_stop = cr_metric_r_plus(&f->metric) + f->horizon_epsilon;
+    f->w_stop = 1.0 / f->r_stop;
     if (f->disc.enabled && f->disc.r_out > rm)
         rm = f->disc.r_out;
     for (k = 0; k < f->n_spheres; k++) {
@@ -49,39 +63,96 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
         rm = CR_MIN_R_MAX_OVER_M * f->metric.m;
     if (f->sky_boundary > rm)
         rm = f->sky_boundary;
-    f->r_max = rm;
+    f->r_max = at_inf ? INFINITY : rm;
+    f->w_sky = (f->sky.rgb && !(f->sky_boundary > 0.0)) ? 0.0 : 1.0 / rm;
     cr_camera_prepare(f);
 }
 
-/* Event kinds located inside a step. */
-enum { CR_EV_DISC = -1 };
+/* Largest state of either integrator. */
+#define CR_RAY_NY ((int)CR_MN > (int)CR_NY ? (int)CR_MN : (int)CR_NY)
 
-/* Value of event function ev (CR_EV_DISC or a sphere index) at state y. */
-CR_HD static inline double cr_event_value(const cr_frame *f, int ev, const double *y)
+/* One ray under either integrator: its constants, its state, and the step
+ * from that state (to y1 / m1) while events are looked for inside it. */
+typedef struct cr_ray {
+    int kind; /* cr_integrator */
+    /* CR_INTEG_RK4 */
+    cr_geo g;
+    double y[CR_NY], y1[CR_NY], k1[CR_NY], u[4];
+    double h; /* the current step */
+    /* CR_INTEG_MINO */
+    cr_mino c;
+    double m[CR_MN], m1[CR_MN];
+    cr_dp5 st;     /* stages; st.k[0] = f(m) */
+    double hm;     /* the current step */
+    double h_next; /* the next trial step */
+} cr_ray;
+
+/* The state at fraction s in [0, 1] of the current step. */
+CR_HD static inline void cr_ray_state_at(const cr_ray *ray, double s, double *ys)
+{
+    if (ray->kind == CR_INTEG_MINO)
+        cr_dp5_dense(&ray->st, ray->m, ray->m1, ray->hm, s, ys);
+    else
+        cr_geo_rk4(&ray->g, ray->y, ray->k1, s * ray->h, ys);
+}
+
+/* Cartesian position (2.2.8) of a state of the ray's integrator. */
+CR_HD static inline void cr_ray_cart(const cr_frame *f, const cr_ray *ray, const double *y,
+                                     double x[3])
+{
+    if (ray->kind == CR_INTEG_MINO)
+        cr_mino_cart(f->metric.a, y, x);
+    else
+        cr_bl_to_cart(f->metric.a, y[CR_Y_R], y[CR_Y_TH], y[CR_Y_PH], x);
+}
+
+/* BL r, theta, phi of a state of the ray's integrator. */
+CR_HD static inline void cr_ray_position(const cr_ray *ray, const double *y, double *r,
+                                         double *th, double *ph)
+{
+    if (ray->kind == CR_INTEG_MINO) {
+        double c, s;
+        cr_mino_position(y, r, &c, &s, ph);
+        *th = atan2(s, c);
+    } else {
+        *r = y[CR_Y_R];
+        *th = y[CR_Y_TH];
+        *ph = y[CR_Y_PH];
+    }
+}
+
+/* Event kinds located inside a step: the disc plane, the sky radius (Mino
+ * only), or a sphere index >= 0. */
+enum { CR_EV_DISC = -1, CR_EV_SKY = -2 };
+
+/* Value of event function ev at state y of the ray's integrator. The disc's
+ * is theta - pi/2 under RK4 and -cos(theta) (same sign) under Mino. */
+CR_HD static inline double cr_event_value(const cr_frame *f, const cr_ray *ray, int ev,
+                                          const double *y)
 {
     double x[3];
     if (ev == CR_EV_DISC)
-        return y[CR_Y_TH] - 0.5 * CR_PI;
-    cr_bl_to_cart(f->metric.a, y[CR_Y_R], y[CR_Y_TH], y[CR_Y_PH], x);
+        return ray->kind == CR_INTEG_MINO ? -y[CR_M_NZ] : y[CR_Y_TH] - 0.5 * CR_PI;
+    if (ev == CR_EV_SKY)
+        return y[CR_M_W] - f->w_sky;
+    cr_ray_cart(f, ray, y, x);
     return cr_sphere_f(&f->spheres[ev], x);
 }
 
-/* Locate the root of event ev inside the step y -(h)-> with f(y) = v0 and
- * f(state at s_hi) = v1 of opposite sign, 0 < s_hi <= 1, by the Illinois
- * variant of regula falsi on partial RK4 steps. Returns the fraction s and the
- * state there in ys. */
-CR_HD static inline double cr_event_locate(const cr_frame *f, const cr_geo *g, int ev,
-                                           const double *y, const double *k1, double h,
+/* Locate the root of event ev inside the current step, where the value is v0
+ * at its start and v1 of opposite sign at fraction s_hi, 0 < s_hi <= 1, by
+ * the Illinois variant of regula falsi on cr_ray_state_at. Returns the
+ * fraction s and the state there in ys. */
+CR_HD static inline double cr_event_locate(const cr_frame *f, const cr_ray *ray, int ev,
                                            double v0, double s_hi, double v1, double *ys)
 {
     double s_lo = 0.0, s = s_hi;
     int side = 0, it;
-    cr_geo_rk4(g, y, k1, s_hi * h, ys);
     for (it = 0; it < 60; it++) {
         double v;
         s = (s_lo * v1 - s_hi * v0) / (v1 - v0);
-        cr_geo_rk4(g, y, k1, s * h, ys);
-        v = cr_event_value(f, ev, ys);
+        cr_ray_state_at(ray, s, ys);
+        v = cr_event_value(f, ray, ev, ys);
         if (v == 0.0 || s_hi - s_lo < 1e-12)
             break;
         if ((v < 0.0) == (v1 < 0.0)) {
@@ -103,16 +174,17 @@ CR_HD static inline double cr_event_locate(const cr_frame *f, const cr_geo *g, i
     return s;
 }
 
-/* Earliest sphere hit within the step y -> y1 (x0, x1 their Cartesian
- * positions). Catches both a sign change of |x - c|^2 - R^2 and a ray that
- * enters and leaves within the step (chord passing inside). Returns the
- * sphere index or -1; on a hit, *s_out and ys hold the located point. */
-CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_geo *g, const double *y,
-                                         const double *k1, double h, const double x0[3],
-                                         const double x1[3], double *s_out, double *ys)
+/* Earliest sphere hit within the current step (x0, x1 the Cartesian
+ * positions at its ends). Catches both a sign change of |x - c|^2 - R^2 and
+ * a ray that enters and leaves within the step (chord passing inside).
+ * Returns the sphere index or -1; on a hit, *s_out and ys hold the located
+ * point. */
+CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_ray *ray,
+                                         const double x0[3], const double x1[3], double *s_out,
+                                         double *ys)
 {
     int best = -1, k;
-    double best_s = 2.0, tmp[CR_NY];
+    double best_s = 2.0, tmp[CR_RAY_NY];
     for (k = 0; k < f->n_spheres; k++) {
         const cr_sphere *sp = &f->spheres[k];
         double v0 = cr_sphere_f(sp, x0), v1 = cr_sphere_f(sp, x1);
@@ -141,20 +213,20 @@ CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_geo *g, con
                 xm[i] = x0[i] + t * d[i];
             if (cr_sphere_f(sp, xm) >= 0.0)
                 continue;
-            cr_geo_rk4(g, y, k1, t * h, tmp);
-            v1 = cr_event_value(f, k, tmp);
+            cr_ray_state_at(ray, t, tmp);
+            v1 = cr_event_value(f, ray, k, tmp);
             if (v1 >= 0.0)
                 continue;
             s_hi = t;
         }
         if (s_hi >= best_s)
             continue;
-        s = cr_event_locate(f, g, k, y, k1, h, v0, s_hi, v1, tmp);
+        s = cr_event_locate(f, ray, k, v0, s_hi, v1, tmp);
         if (s < best_s) {
             int i;
             best_s = s;
             best = k;
-            for (i = 0; i < CR_NY; i++)
+            for (i = 0; i < CR_RAY_NY; i++)
                 ys[i] = tmp[i];
         }
     }
@@ -162,48 +234,172 @@ CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_geo *g, con
     return best;
 }
 
-/* Trace the backward ray (g, y) through the frame's scene. */
-CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, double *y)
+/* Start a Mino ray from a BL state (RK4 layout) and constants. */
+CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
+{
+    ray->kind = CR_INTEG_MINO;
+    if (fabs(ray->m[CR_M_NZ]) < 1e-15) /* cos(pi/2) rounded: on the disc plane */
+        ray->m[CR_M_NZ] = 0.0;
+    cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
+    ray->h_next = cr_mino_first_step(&ray->c, f->tolerance);
+}
+
+/* The ray of the frame's integrator from the BL state y and constants g made
+ * by cr_camera_ray. */
+CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, const double *y,
+                                        cr_ray *ray)
+{
+    int i;
+    ray->g = *g;
+    for (i = 0; i < CR_NY; i++)
+        ray->y[i] = y[i];
+    if (f->integrator == CR_INTEG_MINO) {
+        cr_mino_from_bl(g, y, f->w_stop, &ray->c, ray->m);
+        cr_ray_mino_start(f, ray);
+    } else {
+        ray->kind = CR_INTEG_RK4;
+    }
+}
+
+/* Derivatives at the current state, and the error monitor there (negative
+ * where it is undefined). */
+CR_HD static inline double cr_ray_begin(cr_ray *ray)
+{
+    cr_metric_point p;
+    if (ray->kind == CR_INTEG_MINO)
+        return cr_mino_monitor(&ray->c, ray->m);
+    cr_geo_rhs_full(&ray->g, ray->y, ray->k1, ray->u, &p);
+    return cr_geo_null_error(&p, ray->u);
+}
+
+CR_HD static inline int cr_ray_at_horizon(const cr_frame *f, const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO ? ray->m[CR_M_W] >= f->w_stop
+                                      : ray->y[CR_Y_R] <= f->r_stop;
+}
+
+CR_HD static inline int cr_ray_escaping(const cr_frame *f, const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO
+               ? ray->m[CR_M_W] <= f->w_sky && ray->m[CR_M_DW] < 0.0
+               : ray->y[CR_Y_R] >= f->r_max && ray->u[1] > 0.0;
+}
+
+/* One step from the current state to y1 / m1. Returns 0, or -1 when the
+ * integration failed (non-finite state, step size collapsed). */
+CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
+{
+    int tries, i;
+    if (ray->kind == CR_INTEG_MINO) {
+        double h = ray->h_next;
+        for (tries = 0;; tries++) {
+            double err = cr_dp5_try(&ray->c, f->tolerance, h, ray->m, &ray->st, ray->m1);
+            double fac = cr_dp5_factor(err);
+            if (err <= 1.0) {
+                ray->hm = h;
+                ray->h_next = h * (tries > 0 && fac > 1.0 ? 1.0 : fac);
+                return 0;
+            }
+            h *= fac;
+            if (tries == 60 || !(h > 0.0))
+                return -1;
+        }
+    }
+    ray->h = cr_geo_step_size(&ray->g, f->step_multiplier, ray->y[CR_Y_TH], ray->u);
+    for (tries = 0;; tries++) {
+        int ok = 1;
+        cr_geo_rk4(&ray->g, ray->y, ray->k1, ray->h, ray->y1);
+        for (i = 0; i < CR_NY; i++)
+            ok &= cr_isfinite(ray->y1[i]);
+        if (ok && ray->y1[CR_Y_R] > 0.0)
+            break;
+        if (tries == 4)
+            return -1;
+        ray->h *= 0.125;
+    }
+    return cr_isfinite(ray->h) ? 0 : -1;
+}
+
+/* Move the ray to the end of the current step (no hit inside it): under
+ * RK4 through the polar axis, under Mino cut at the sky radius when the step
+ * crosses it. Adds the turns made around the axis to *turns. */
+CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *turns)
+{
+    int i;
+    if (ray->kind == CR_INTEG_MINO) {
+        double d0 = ray->m1[CR_M_NX] - ray->m[CR_M_NX], d1 = ray->m1[CR_M_NY] - ray->m[CR_M_NY],
+               d2 = ray->m1[CR_M_NZ] - ray->m[CR_M_NZ];
+        *turns += sqrt(d0 * d0 + d1 * d1 + d2 * d2) / CR_TWO_PI;
+        if (ray->m1[CR_M_W] < f->w_sky && ray->m1[CR_M_DW] < 0.0 &&
+            ray->m[CR_M_W] > f->w_sky) {
+            double ys[CR_RAY_NY];
+            cr_event_locate(f, ray, CR_EV_SKY, ray->m[CR_M_W] - f->w_sky, 1.0,
+                            ray->m1[CR_M_W] - f->w_sky, ys);
+            for (i = 0; i < CR_MN; i++)
+                ray->m[i] = ys[i];
+            ray->m[CR_M_W] = f->w_sky;
+            if (!(ray->m[CR_M_DW] < 0.0))
+                ray->m[CR_M_DW] = -1e-300;
+            cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
+            return;
+        }
+        for (i = 0; i < CR_MN; i++) {
+            ray->m[i] = ray->m1[i];
+            ray->st.k[0][i] = ray->st.k[6][i];
+        }
+        return;
+    }
+    *turns += fabs(ray->y1[CR_Y_PH] - ray->y[CR_Y_PH]) / CR_TWO_PI;
+    cr_geo_through_axis(ray->y1);
+    for (i = 0; i < CR_NY; i++)
+        ray->y[i] = ray->y1[i];
+}
+
+/* Trace a ray through the frame's scene. */
+CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
 {
     cr_pixel px;
-    double k1[CR_NY], y1[CR_NY], ys[CR_NY], u[4];
+    double ys[CR_RAY_NY];
     double x0[3] = {0.0, 0.0, 0.0}, x1[3];
     double mean = 0.0, m2 = 0.0, turns = 0.0;
     long n_err = 0, steps = 0;
-    int i;
-    cr_metric_point p;
+    int i, mino = ray->kind == CR_INTEG_MINO;
+    const double *y = mino ? ray->m : ray->y;
+    const double *y1 = mino ? ray->m1 : ray->y1;
 
     px.redshift = -1.0;
     px.object = -1;
     px.outcome = CR_OUT_NONE;
     px.color = f->error_color;
     if (f->n_spheres > 0)
-        cr_bl_to_cart(f->metric.a, y[CR_Y_R], y[CR_Y_TH], y[CR_Y_PH], x0);
+        cr_ray_cart(f, ray, y, x0);
 
     for (;;) {
-        double h, e;
-        int tries, hit_sphere = -1, hit_disc = 0;
+        double e;
+        int hit_sphere = -1, hit_disc = 0;
         double s_sphere = 2.0, s_disc = 2.0;
 
-        if (y[CR_Y_R] <= f->r_stop) {
+        if (cr_ray_at_horizon(f, ray)) {
             px.outcome = CR_OUT_HORIZON;
             px.color = f->horizon_color;
             px.redshift = 0.0; /* light from the horizon is infinitely redshifted */
             break;
         }
-        cr_geo_rhs_full(g, y, k1, u, &p);
-        e = cr_geo_null_error(&p, u);
+        e = cr_ray_begin(ray);
         if (e >= 0.0 && cr_isfinite(e)) {
             double d = e - mean;
             n_err++;
             mean += d / n_err;
             m2 += d * (e - mean);
         }
-        if (y[CR_Y_R] >= f->r_max && u[1] > 0.0) {
+        if (cr_ray_escaping(f, ray)) {
             px.outcome = CR_OUT_SKY;
             if (f->sky.rgb) {
                 double sth, sph;
-                cr_sky_direction(f->metric.a, y, u[3], &sth, &sph);
+                if (mino)
+                    cr_mino_sky_direction(&ray->c, y, &sth, &sph);
+                else
+                    cr_sky_direction(f->metric.a, y, ray->u[3], &sth, &sph);
                 px.color = cr_sky_sample(&f->sky, sth, sph);
             } else {
                 px.color = f->sky_color;
@@ -217,30 +413,20 @@ CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, do
             px.color = f->horizon_color;
             break;
         }
-        h = cr_geo_step_size(g, f->step_multiplier, y[CR_Y_TH], u);
-        for (tries = 0;; tries++) {
-            int ok = 1;
-            cr_geo_rk4(g, y, k1, h, y1);
-            for (i = 0; i < CR_NY; i++)
-                ok &= cr_isfinite(y1[i]);
-            if (ok && y1[CR_Y_R] > 0.0)
-                break;
-            if (tries == 4) {
-                px.outcome = CR_OUT_ERROR;
-                break;
-            }
-            h *= 0.125;
-        }
-        if (px.outcome == CR_OUT_ERROR || !cr_isfinite(h))
+        if (cr_ray_advance(f, ray) != 0) {
+            px.outcome = CR_OUT_ERROR;
             break;
+        }
         steps++;
 
         /* events inside this step */
         if (f->disc.enabled) {
-            double v0 = y[CR_Y_TH] - 0.5 * CR_PI, v1 = y1[CR_Y_TH] - 0.5 * CR_PI;
+            double v0 = cr_event_value(f, ray, CR_EV_DISC, y),
+                   v1 = cr_event_value(f, ray, CR_EV_DISC, y1);
             if (v0 != 0.0 && (v0 < 0.0) != (v1 < 0.0)) {
-                double s = cr_event_locate(f, g, CR_EV_DISC, y, k1, h, v0, 1.0, v1, ys);
-                double rr = ys[CR_Y_R];
+                double s = cr_event_locate(f, ray, CR_EV_DISC, v0, 1.0, v1, ys);
+                double rr, th, ph;
+                cr_ray_position(ray, ys, &rr, &th, &ph);
                 if (rr >= f->disc.r_in && rr <= f->disc.r_out) {
                     hit_disc = 1;
                     s_disc = s;
@@ -248,34 +434,33 @@ CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, do
             }
         }
         if (f->n_spheres > 0) {
-            double ysp[CR_NY];
-            cr_bl_to_cart(f->metric.a, y1[CR_Y_R], y1[CR_Y_TH], y1[CR_Y_PH], x1);
-            hit_sphere = cr_sphere_events(f, g, y, k1, h, x0, x1, &s_sphere, ysp);
+            double ysp[CR_RAY_NY];
+            cr_ray_cart(f, ray, y1, x1);
+            hit_sphere = cr_sphere_events(f, ray, x0, x1, &s_sphere, ysp);
             if (hit_sphere >= 0 && (!hit_disc || s_sphere < s_disc)) {
-                double xs[3];
-                cr_bl_to_cart(f->metric.a, ysp[CR_Y_R], ysp[CR_Y_TH], ysp[CR_Y_PH], xs);
+                double xs[3], rr, th, ph;
+                cr_ray_cart(f, ray, ysp, xs);
+                cr_ray_position(ray, ysp, &rr, &th, &ph);
                 px.outcome = CR_OUT_SPHERE;
                 px.object = (int16_t)hit_sphere;
                 px.color = cr_sphere_color(&f->spheres[hit_sphere], xs);
-                px.redshift = cr_redshift_static(f, ysp[CR_Y_R], ysp[CR_Y_TH]);
+                px.redshift = cr_redshift_static(f, rr, th);
                 break;
             }
             for (i = 0; i < 3; i++)
                 x0[i] = x1[i];
         }
         if (hit_disc) {
-            int side = y[CR_Y_TH] < 0.5 * CR_PI ? 0 : 1;
+            double rr, th, ph;
+            int side = cr_event_value(f, ray, CR_EV_DISC, y) < 0.0 ? 0 : 1;
+            cr_ray_position(ray, ys, &rr, &th, &ph);
             px.outcome = CR_OUT_DISC;
             px.object = (int16_t)side;
-            px.color = cr_disc_color(&f->disc, ys[CR_Y_R], ys[CR_Y_PH], side);
-            px.redshift = cr_redshift_static(f, ys[CR_Y_R], 0.5 * CR_PI);
+            px.color = cr_disc_color(&f->disc, rr, ph, side);
+            px.redshift = cr_redshift_static(f, rr, 0.5 * CR_PI);
             break;
         }
-
-        turns += fabs(y1[CR_Y_PH] - y[CR_Y_PH]) / CR_TWO_PI;
-        cr_geo_through_axis(y1);
-        for (i = 0; i < CR_NY; i++)
-            y[i] = y1[i];
+        cr_ray_commit(f, ray, &turns);
     }
     px.steps = (uint32_t)steps;
     px.err_mean = n_err > 0 ? mean : 0.0;
@@ -283,11 +468,28 @@ CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, do
     return px;
 }
 
+/* Trace the backward ray with BL state y and constants g (as made by
+ * cr_camera_ray) through the frame's scene, with the frame's integrator. */
+CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, const double *y)
+{
+    cr_ray ray;
+    cr_ray_from_bl(f, g, y, &ray);
+    return cr_trace_loop(f, &ray);
+}
+
 /* Trace pixel (i, j) of frame f (prepared by cr_frame_prepare). */
 CR_HD static inline cr_pixel cr_trace_pixel(const cr_frame *f, int i, int j)
 {
     double n[3], y[CR_NY];
     cr_geo g;
+    if (f->obs_at_inf) {
+        cr_ray ray;
+        double alpha, beta;
+        cr_camera_screen(f, (double)i, (double)j, &alpha, &beta);
+        cr_mino_from_infinity(f, alpha, beta, &ray.c, ray.m);
+        cr_ray_mino_start(f, &ray);
+        return cr_trace_loop(f, &ray);
+    }
     cr_camera_pixel_dir(f, (double)i, (double)j, n);
     cr_camera_ray(f, n, &g, y);
     return cr_trace_ray(f, &g, y);
