@@ -827,6 +827,8 @@ static void test_info(void **state)
     cfg.gpu_enabled[2] = 1;
     cfg.cpu_threads = 0;
     cfg.horizon_epsilon = 0.005;
+    cfg.integrator = CR_INTEG_MINO;
+    cfg.tolerance = 1e-8;
     cfg.step_multiplier = 0.03125;
     cfg.max_steps = 100000;
     cfg.max_turns = 4;
@@ -883,7 +885,9 @@ static void test_info(void **state)
         "  GPUs enabled           0, 2\n",
         "  CPU threads            all online cores\n",
         "  horizon epsilon        0.005\n",
-        "  step multiplier        0.03125\n",
+        "  integrator             mino\n",
+        "  tolerance              1e-08\n",
+        "  step multiplier        0.03125 (rk4 only, unused)\n",
         "  max steps per ray      100000\n",
         "  auto accept            yes\n",
         "Frame 0\n",
@@ -911,6 +915,56 @@ static void test_info(void **state)
     free(t);
     assert_int_equal(count_entries(f->dir, &temps), 1);
     assert_int_equal(temps, 0);
+}
+
+/* info.txt of an observer at infinity, a sky at infinity and rk4 */
+static void test_info_at_infinity(void **state)
+{
+    fixture *f = *state;
+    cr_scene s;
+    cr_sysconfig cfg;
+    cr_err err;
+    char path[4096];
+    char *t;
+
+    memset(&s, 0, sizeof s);
+    s.path = "inf.yml";
+    s.m = (cr_anim){1, 1};
+    s.a = (cr_anim){0.9, 0.9};
+    s.obs_at_infinity = 1;
+    s.obs_r = (cr_anim){INFINITY, INFINITY};
+    s.obs_theta = (cr_anim){CR_PI / 2, CR_PI / 2};
+    s.hextent = (cr_anim){40, 20};
+    s.has_sky = 1;
+    s.sky_image = "sky.png";
+    s.sky_width = 4;
+    s.sky_height = 2;
+    s.sky_at_infinity = 1;
+    cr_sysconfig_defaults(&cfg);
+    cfg.integrator = CR_INTEG_RK4;
+    assert_int_equal(cr_info_write(f->dir, NULL, &s, &cfg, NULL, 0, &err), 0);
+    join(path, f, "info.txt");
+    t = read_all(path, NULL);
+    static const char *const want[] = {
+        "  r                      inf (the observer at infinity)\n",
+        "  image plane width      40 -> 20 M\n",
+        "  image plane height     from the width and the aspect ratio\n",
+        "  boundary R             inf (the sky at infinity)\n",
+        "  integrator             rk4\n",
+        "  tolerance              1e-08 (mino only, unused)\n",
+        "  step multiplier        0.03125\n",
+    };
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
+        if (!strstr(t, want[i]))
+            fail_msg("info.txt lacks \"%s\"; it reads:\n%s", want[i], t);
+    assert_null(strstr(t, "fov"));
+    free(t);
+    s.has_vextent = 1;
+    s.vextent = (cr_anim){30, 30};
+    assert_int_equal(cr_info_write(f->dir, NULL, &s, &cfg, NULL, 0, &err), 0);
+    t = read_all(path, NULL);
+    assert_non_null(strstr(t, "  image plane height     30 M\n"));
+    free(t);
 }
 
 /* --- folders ------------------------------------------------------------------ */
@@ -1159,6 +1213,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_frame_pngs, setup, teardown),
         cmocka_unit_test(test_stats),
         cmocka_unit_test_setup_teardown(test_info, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_info_at_infinity, setup, teardown),
         cmocka_unit_test_setup_teardown(test_mkdir_p, setup, teardown),
         cmocka_unit_test(test_path_join),
         cmocka_unit_test_setup_teardown(test_log, setup, teardown),

@@ -36,8 +36,12 @@ static cr_pixel *render(const char *scene_file, int k, int n)
     cr_err err;
     cr_frame f;
     cr_sphere sp[16];
-    cr_trace_settings ts = {CR_DEFAULT_STEP_MULTIPLIER, CR_DEFAULT_HORIZON_EPSILON,
-                            CR_DEFAULT_MAX_STEPS, CR_DEFAULT_MAX_TURNS};
+    cr_trace_settings ts = {.integrator = CR_DEFAULT_INTEGRATOR,
+                            .tolerance = CR_DEFAULT_TOLERANCE,
+                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
+                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
+                            .max_steps = CR_DEFAULT_MAX_STEPS,
+                            .max_turns = CR_DEFAULT_MAX_TURNS};
     cr_pixel *px = calloc(W * H, sizeof *px);
     snprintf(path, sizeof path, "%s/scenes/%s", CR_SOURCE_DIR, scene_file);
     if (cr_scene_load(path, &s, &err))

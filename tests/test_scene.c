@@ -10,7 +10,12 @@
  * - every error path: the message names the file, line:col and key path;
  * - cr_scene_frame rejects impossible values (ERRATA item 4) and accepts the
  *   extremal hole and an observer on the polar axis;
- * - a sky image is loaded relative to the scene file's folder.
+ * - a sky image is loaded relative to the scene file's folder; a skymap
+ *   without a boundary (or with boundary: inf) has its sky at infinity;
+ * - the observer at infinity (r: inf): its spellings, hextent/vextent, the
+ *   keys that apply only to one kind of observer, pitch = yaw = 0, the rk4
+ *   integrator refused, no horizon named by metric.a / metric.q;
+ * - the raytracer settings (integrator, tolerance) are checked and copied.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -108,6 +113,8 @@ static void test_minimal_defaults(void **state)
     assert_true(s.pitch.a == 0.0 && s.yaw.a == 0.0);
     assert_near(s.hfov.a, 70.0 * DEG, 1e-15);
     assert_int_equal(s.has_vfov, 0);
+    assert_int_equal(s.obs_at_infinity, 0);
+    assert_int_equal(s.has_vextent, 0);
     assert_int_equal(s.has_disc, 0);
     assert_int_equal(s.has_sky, 0);
     assert_null(s.sky_image);
@@ -449,6 +456,8 @@ static void test_frame_fields(void **state)
     (void)state;
     if (cr_scene_load(DATA "scene_full.yml", &s, &e))
         fail_msg("%s", e.msg);
+    ts.integrator = CR_INTEG_RK4;
+    ts.tolerance = 1e-6;
     ts.step_multiplier = 0.01;
     ts.horizon_epsilon = 1e-3;
     ts.max_steps = 1234;
@@ -473,6 +482,8 @@ static void test_frame_fields(void **state)
     assert_int_equal(f.height, 200);
     assert_true(f.step_multiplier == 0.01 && f.horizon_epsilon == 1e-3);
     assert_true(f.max_steps == 1234 && f.max_turns == 7.0);
+    assert_int_equal(f.integrator, CR_INTEG_RK4);
+    assert_true(f.tolerance == 1e-6);
     /* prepared */
     assert_near(f.r_stop, cr_metric_r_plus(&f.metric) + 1e-3, 1e-15);
     assert_true(f.r_max >= 30.0);
@@ -486,6 +497,9 @@ static void test_frame_fields(void **state)
     assert_true(f.horizon_epsilon == CR_DEFAULT_HORIZON_EPSILON);
     assert_true(f.max_steps == CR_DEFAULT_MAX_STEPS);
     assert_true(f.max_turns == CR_DEFAULT_MAX_TURNS);
+    assert_int_equal(f.integrator, CR_DEFAULT_INTEGRATOR);
+    assert_int_equal(f.integrator, CR_INTEG_MINO);
+    assert_true(f.tolerance == CR_DEFAULT_TOLERANCE);
     cr_scene_free(&s);
 }
 
@@ -708,8 +722,12 @@ static void test_frame_rejects_settings(void **state)
 {
     cr_scene s;
     cr_frame f;
-    cr_trace_settings ts = {CR_DEFAULT_STEP_MULTIPLIER, CR_DEFAULT_HORIZON_EPSILON,
-                            CR_DEFAULT_MAX_STEPS, CR_DEFAULT_MAX_TURNS};
+    cr_trace_settings ts = {.integrator = CR_DEFAULT_INTEGRATOR,
+                            .tolerance = CR_DEFAULT_TOLERANCE,
+                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
+                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
+                            .max_steps = CR_DEFAULT_MAX_STEPS,
+                            .max_turns = CR_DEFAULT_MAX_TURNS};
     cr_err e;
     (void)state;
     load_ok(MIN, &s);
@@ -724,7 +742,166 @@ static void test_frame_rejects_settings(void **state)
     ts.max_steps = 0;
     assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
     assert_contains(e.msg, "max_steps");
+    ts.max_steps = CR_DEFAULT_MAX_STEPS;
+    {
+        const double bad[] = {0.0, -1e-8, NAN, INFINITY, -INFINITY};
+        size_t i;
+        for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+            ts.tolerance = bad[i];
+            assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
+            assert_starts(e.msg, NAME ": raytracer.tolerance = ");
+            assert_contains(e.msg, "must be positive");
+        }
+    }
+    ts.tolerance = CR_DEFAULT_TOLERANCE;
+    ts.integrator = CR_INTEG_COUNT_;
+    assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
+    assert_string_equal(e.msg, NAME ": raytracer.integrator = 2 is not an integrator (expected "
+                                    "one of: mino, rk4)");
+    ts.integrator = -1;
+    assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
+    assert_contains(e.msg, "raytracer.integrator = -1");
+    /* both integrators run a finite observer */
+    ts.integrator = CR_INTEG_RK4;
+    ts.tolerance = 1e-3;
+    assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), 0);
+    assert_int_equal(f.integrator, CR_INTEG_RK4);
+    assert_true(f.tolerance == 1e-3);
+    ts.integrator = CR_INTEG_MINO;
+    assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), 0);
+    assert_int_equal(f.integrator, CR_INTEG_MINO);
     cr_scene_free(&s);
+}
+
+/* ---- the observer at infinity ---------------------------------------------- */
+
+#define INF_OBS "observer: {r: inf, theta: 85, phi: 0, hextent: 40}\n"
+
+static void test_observer_at_infinity(void **state)
+{
+    static const char *spellings[] = {"inf",  "+inf",     "infinity", "Infinity", "INF",
+                                      "+Inf", "INFINITY", ".inf",     "+.inf",    "\"inf\"",
+                                      "'infinity'", "\" inf \""};
+    cr_scene s;
+    cr_frame f;
+    cr_sphere buf[MAX_SPHERES];
+    cr_err e;
+    char text[512];
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof spellings / sizeof spellings[0]; i++) {
+        snprintf(text, sizeof text,
+                 "metric: {m: 1, a: 0.9, q: 0}\n"
+                 "observer: {r: %s, theta: 85, phi: 0, hextent: 40}\n",
+                 spellings[i]);
+        load_ok(text, &s);
+        assert_int_equal(s.obs_at_infinity, 1);
+        assert_true(isinf(s.obs_r.a) && s.obs_r.a > 0.0 && s.obs_r.b == s.obs_r.a);
+        assert_true(s.hextent.a == 40.0 && s.hextent.b == 40.0);
+        assert_int_equal(s.has_vextent, 0);
+        assert_int_equal(s.has_vfov, 0);
+        cr_scene_free(&s);
+    }
+    /* the frame: r = +inf, the extents, no field of view; vextent from the
+     * aspect ratio (square pixels) */
+    load_ok("metric: {m: 1, a: 0.9, q: 0}\n" INF_OBS, &s);
+    e.msg[0] = '\0';
+    if (cr_scene_frame(&s, 0, 1, 200, 100, NULL, &f, buf, &e))
+        fail_msg("%s", e.msg);
+    assert_true(isinf(f.observer.r) && f.observer.r > 0.0);
+    assert_true(f.observer.hextent == 40.0);
+    assert_true(f.observer.vextent == 20.0);
+    assert_true(f.observer.hfov == 0.0 && f.observer.vfov == 0.0);
+    assert_true(f.observer.pitch == 0.0 && f.observer.yaw == 0.0);
+    assert_near(f.observer.theta, 85.0 * DEG, 1e-15);
+    assert_int_equal(f.integrator, CR_DEFAULT_INTEGRATOR);
+    /* its boundary is at infinity too */
+    assert_true(isfinite(f.r_max) || f.r_max == INFINITY);
+    assert_true(isfinite(f.r_stop));
+    assert_true(f.obs_sqrt_mgtt > 0.0 && isfinite(f.obs_sqrt_mgtt));
+    if (cr_scene_frame(&s, 0, 1, 100, 300, NULL, &f, buf, &e))
+        fail_msg("%s", e.msg);
+    assert_true(f.observer.vextent == 120.0);
+    cr_scene_free(&s);
+
+    /* vextent given; roll, and pitch = yaw = 0, allowed; hextent animated;
+     * theta on the axis; an extremal hole */
+    load_ok("metric: {m: 1, a: 1, q: 0}\n"
+            "observer: {r: inf, theta: [linear, 0, 90], phi: 10, roll: [linear, 0, 30],\n"
+            "           pitch: 0, yaw: 0 deg, hextent: [linear, 40, 20], vextent: 30}\n",
+            &s);
+    assert_int_equal(s.has_vextent, 1);
+    frame_ok(&s, 0, 3, &f, buf);
+    assert_true(f.observer.hextent == 40.0 && f.observer.vextent == 30.0);
+    assert_true(f.observer.theta == 0.0 && f.observer.roll == 0.0);
+    frame_ok(&s, 2, 3, &f, buf);
+    assert_true(f.observer.hextent == 20.0 && f.observer.vextent == 30.0);
+    assert_near(f.observer.roll, 30.0 * DEG, 1e-15);
+    assert_near(f.observer.theta, 90.0 * DEG, 1e-15);
+    cr_scene_free(&s);
+
+    /* a finite r keeps hfov/vfov and leaves the extents 0 */
+    load_ok(MIN, &s);
+    frame_ok(&s, 0, 1, &f, buf);
+    assert_true(f.observer.r == 30.0 && isfinite(f.r_max));
+    assert_true(f.observer.hextent == 0.0 && f.observer.vextent == 0.0);
+    cr_scene_free(&s);
+}
+
+static void test_observer_at_infinity_rejects(void **state)
+{
+    cr_scene s;
+    cr_frame f;
+    cr_err e;
+    cr_trace_settings ts = {.integrator = CR_INTEG_RK4,
+                            .tolerance = CR_DEFAULT_TOLERANCE,
+                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
+                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
+                            .max_steps = CR_DEFAULT_MAX_STEPS,
+                            .max_turns = CR_DEFAULT_MAX_TURNS};
+    (void)state;
+#define INF_R "r: inf, theta: 85, phi: 0"
+    frame_rejects(SCHW, INF_R ", hextent: 0", NULL, 0, 1, 64, 48,
+                  "observer.hextent = 0: the width of the image plane must be positive");
+    frame_rejects(SCHW, INF_R ", hextent: -20", NULL, 0, 1, 64, 48, "observer.hextent = -20");
+    frame_rejects(SCHW, INF_R ", hextent: [linear, 40, -40]", NULL, 2, 3, 64, 48,
+                  "observer.hextent = -40");
+    frame_rejects(SCHW, INF_R ", hextent: 40, vextent: 0", NULL, 0, 1, 64, 48,
+                  "observer.vextent = 0: the height of the image plane must be positive");
+    frame_rejects(SCHW, INF_R ", hextent: 40, vextent: -1", NULL, 0, 1, 64, 48,
+                  "observer.vextent = -1");
+    frame_rejects(SCHW, INF_R ", hextent: 1e308", NULL, 0, 1, 1, 64, "observer.vextent = inf");
+    frame_rejects(SCHW, "r: inf, theta: 200, phi: 0, hextent: 40", NULL, 0, 1, 64, 48,
+                  "observer.theta = 200 deg");
+    /* no horizon: named by metric.a and metric.q */
+    frame_rejects("m: 1, a: 1.1, q: 0", INF_R ", hextent: 40", NULL, 0, 1, 64, 48,
+                  "metric.a = 1.1, metric.q = 0: a^2 + q^2 = 1.21 exceeds m^2 = 1, so there is "
+                  "no event horizon");
+    frame_rejects("m: 1, a: 0.6, q: 0.9", INF_R ", hextent: 40", NULL, 0, 1, 64, 48,
+                  "metric.a = 0.6, metric.q = 0.9: a^2 + q^2 = 1.17");
+    frame_rejects("m: 1, a: 0, q: [linear, 0, 2]", INF_R ", hextent: 40", NULL, 1, 2, 64, 48,
+                  "metric.a = 0, metric.q = 2:");
+    /* the ergosphere check does not apply (it would for a finite r) */
+    {
+        cr_frame f2;
+        frame_accepts("m: 1, a: 1, q: 0", "r: inf, theta: 90, phi: 0, hextent: 40", NULL, &f2);
+        assert_true(isinf(f2.observer.r));
+    }
+    /* rk4 cannot start at infinity */
+    load_ok("metric: {m: 1, a: 0.9, q: 0}\n" INF_OBS, &s);
+    e.msg[0] = '\0';
+    assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
+    assert_string_equal(e.msg, NAME ": raytracer.integrator = rk4: the rk4 integrator cannot "
+                                    "start at infinity (observer.r: inf); use mino, or give "
+                                    "observer.r a finite value");
+    ts.integrator = CR_INTEG_MINO;
+    if (cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e))
+        fail_msg("%s", e.msg);
+    ts.tolerance = 0.0;
+    assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
+    assert_contains(e.msg, "raytracer.tolerance = 0 must be positive");
+    cr_scene_free(&s);
+#undef INF_R
 }
 
 /* ---- sky image ------------------------------------------------------------ */
@@ -784,6 +961,45 @@ static void test_skymap(void **state)
     frame_ok(&s, 0, 3, &f, NULL);
     assert_int_equal(cr_scene_frame(&s, 1, 3, 64, 48, NULL, &f, NULL, &e), -1);
     assert_string_equal(e.msg, NAME ": frame 1 of 3: skymap.boundary = 0 must be positive");
+    cr_scene_free(&s);
+
+    /* no boundary, or boundary: inf: the sky at infinity (frame boundary 0) */
+    write_file(TMP "/sky_inf.yml", BASE "skymap:\n  image: sky.png\n");
+    if (cr_scene_load(TMP "/sky_inf.yml", &s, &e))
+        fail_msg("%s", e.msg);
+    assert_int_equal(s.has_sky, 1);
+    assert_int_equal(s.sky_at_infinity, 1);
+    frame_ok(&s, 0, 1, &f, NULL);
+    assert_ptr_equal(f.sky.rgb, s.sky_rgb);
+    assert_true(f.sky_boundary == 0.0);
+    assert_true(isfinite(f.r_max));
+    cr_scene_free(&s);
+    {
+        static const char *infs[] = {"inf", "+Infinity", ".inf"};
+        size_t i;
+        for (i = 0; i < sizeof infs / sizeof infs[0]; i++) {
+            snprintf(text, sizeof text, BASE "skymap: {image: %s, boundary: %s}\n",
+                     TMP "/sky.png", infs[i]);
+            load_ok(text, &s);
+            assert_int_equal(s.sky_at_infinity, 1);
+            frame_ok(&s, 0, 1, &f, NULL);
+            assert_true(f.sky_boundary == 0.0);
+            cr_scene_free(&s);
+        }
+    }
+    /* a finite boundary keeps its meaning */
+    snprintf(text, sizeof text, BASE "skymap: {image: %s, boundary: 75}\n", TMP "/sky.png");
+    load_ok(text, &s);
+    assert_int_equal(s.sky_at_infinity, 0);
+    frame_ok(&s, 0, 1, &f, NULL);
+    assert_true(f.sky_boundary == 75.0 && f.r_max >= 75.0);
+    cr_scene_free(&s);
+    /* with the observer at infinity */
+    snprintf(text, sizeof text,
+             "metric: {m: 1, a: 0.5, q: 0}\n" INF_OBS "skymap: {image: %s}\n", TMP "/sky.png");
+    load_ok(text, &s);
+    frame_ok(&s, 0, 1, &f, NULL);
+    assert_true(f.sky_boundary == 0.0 && isinf(f.observer.r));
     cr_scene_free(&s);
 
     /* a missing image: the png message behind the scene location */
@@ -1039,9 +1255,16 @@ static void test_errors_values(void **state)
         /* skymap */
         {BASE "skymap:\n  boundary: 20\n", "scene.yml:10:1: skymap: missing required key 'image'",
          ""},
-        {BASE "skymap:\n  image: sky.png\n", "scene.yml:10:1: skymap: missing required key "
-                                            "'boundary'",
-         ""},
+        {BASE "skymap:\n  image: sky.png\n  boundary: -inf\n",
+         "scene.yml:12:13: skymap.boundary: ",
+         "expected a positive number or inf (the sky at infinity), got \"-inf\""},
+        {BASE "skymap:\n  image: sky.png\n  boundary: [linear, 50, inf]\n",
+         "scene.yml:12:26: skymap.boundary[2]: ",
+         "inf (the sky at infinity) cannot be animated"},
+        {BASE "skymap:\n  image: sky.png\n  boundary: nan\n",
+         "scene.yml:12:13: skymap.boundary: ", "expected a finite number, got \"nan\""},
+        {BASE "skymap:\n  image: sky.png\n  boundary: far\n",
+         "scene.yml:12:13: skymap.boundary: ", "expected a number, got \"far\""},
         {BASE "skymap:\n  image: \"\"\n  boundary: 20\n", "scene.yml:11:10: skymap.image: ",
          "expected a non-empty text, got \"\""},
         {BASE "skymap:\n  image: [a.png]\n  boundary: 20\n", "scene.yml:11:10: skymap.image: ",
@@ -1077,6 +1300,96 @@ static void test_errors_values(void **state)
         {BASE "sphere: {color: [1, 2, 3], resolution: [4, 8], r: 10, theta: 90, phi: 0, "
               "radius: 1, yaw: 1 grad}\n",
          "scene.yml:10:90: sphere[0].yaw: ", "unknown angle unit"},
+    };
+    (void)state;
+    check_errors(cases, sizeof cases / sizeof cases[0]);
+}
+
+static void test_errors_observer_at_infinity(void **state)
+{
+    static const err_case cases[] = {
+        /* hfov / vfov with r: inf */
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hextent: 40, hfov: 70}\n",
+         "scene.yml:2:52: observer.hfov: ",
+         "an observer at infinity (r: inf) has no field of view; give the width of its image "
+         "plane with hextent"},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hfov: 70}\n",
+         "scene.yml:2:39: observer.hfov: ", "with hextent"},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hextent: 40, vfov: 30}\n",
+         "scene.yml:2:52: observer.vfov: ", "has no field of view"},
+        /* hextent required */
+        {"metric: {m: 1, a: 0, q: 0}\nobserver:\n  r: inf\n  theta: 90\n  phi: 0\n",
+         "scene.yml:2:1: observer: missing required key 'hextent' (the observer at infinity, "
+         "r: inf, needs the full width of its image plane",
+         ""},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, vextent: 30}\n",
+         "scene.yml:2:1: observer: missing required key 'hextent'", ""},
+        /* hextent / vextent with a finite r */
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: 30, theta: 90, phi: 0, hfov: 70, hextent: 40}\n",
+         "scene.yml:2:48: observer.hextent: ",
+         "applies only to the observer at infinity (r: inf); an observer at a finite r takes "
+         "hfov (and vfov)"},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: 30, theta: 90, phi: 0, hfov: 70, vextent: 40}\n",
+         "scene.yml:2:48: observer.vextent: ", "applies only to the observer at infinity"},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: 30, theta: 90, phi: 0, hextent: 40}\n",
+         "scene.yml:2:38: observer.hextent: ", "applies only to the observer at infinity"},
+        {"metric: {m: 1, a: 0, q: 0}\nobserver: {r: 30, theta: 90, phi: 0}\n",
+         "scene.yml:2:1: observer: missing required key 'hfov'", ""},
+        /* inf is not animatable, -inf is no distance */
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: [linear, inf, 30], theta: 90, phi: 0, hextent: 40}\n",
+         "scene.yml:2:24: observer.r[1]: ",
+         "inf (the observer at infinity) cannot be animated: write it as a plain value, or "
+         "animate between finite numbers"},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: [linear, 30, +Infinity], theta: 90, phi: 0, hfov: 70}\n",
+         "scene.yml:2:28: observer.r[2]: ", "cannot be animated"},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: -inf, theta: 90, phi: 0, hfov: 70}\n",
+         "scene.yml:2:15: observer.r: ",
+         "expected a positive number or inf (the observer at infinity), got \"-inf\""},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: infinite, theta: 90, phi: 0, hfov: 70}\n",
+         "scene.yml:2:15: observer.r: ", "expected a number, got \"infinite\""},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: nan, theta: 90, phi: 0, hfov: 70}\n",
+         "scene.yml:2:15: observer.r: ", "expected a finite number, got \"nan\""},
+        /* only roll */
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hextent: 40, pitch: 10}\n",
+         "scene.yml:2:59: observer.pitch: ",
+         "must be 0: an observer at infinity (r: inf) always looks at the hole and can only "
+         "roll"},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hextent: 40, yaw: [linear, 0, 10]}\n",
+         "scene.yml:2:57: observer.yaw: ", "can only roll"},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hextent: 40, yaw: 180}\n",
+         "scene.yml:2:57: observer.yaw: ", "can only roll"},
+        /* extents are numbers */
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hextent: wide}\n",
+         "scene.yml:2:48: observer.hextent: ", "expected a number, got \"wide\""},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hextent: inf}\n",
+         "scene.yml:2:48: observer.hextent: ", "expected a finite number, got \"inf\""},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hextent: 40 deg}\n",
+         "scene.yml:2:48: observer.hextent: ", "without a unit"},
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: 90, phi: 0, hextent: 40, vextent: [linear, 1]}\n",
+         "scene.yml:2:61: observer.vextent: ", "expected an animation [linear, start, end]"},
+        /* inf stays an error for every other number */
+        {"metric: {m: 1, a: 0, q: 0}\n"
+         "observer: {r: inf, theta: inf, phi: 0, hextent: 40}\n",
+         "scene.yml:2:27: observer.theta: ", "expected a finite angle"},
     };
     (void)state;
     check_errors(cases, sizeof cases / sizeof cases[0]);
@@ -1195,10 +1508,13 @@ int main(void)
         cmocka_unit_test(test_frame_bad_index),
         cmocka_unit_test(test_frame_objects_in_horizon_allowed),
         cmocka_unit_test(test_frame_rejects_settings),
+        cmocka_unit_test(test_observer_at_infinity),
+        cmocka_unit_test(test_observer_at_infinity_rejects),
         cmocka_unit_test(test_skymap),
         cmocka_unit_test(test_error_exact_message),
         cmocka_unit_test(test_errors_syntax_and_shape),
         cmocka_unit_test(test_errors_values),
+        cmocka_unit_test(test_errors_observer_at_infinity),
         cmocka_unit_test(test_errors_files),
         cmocka_unit_test(test_odd_inputs),
     };

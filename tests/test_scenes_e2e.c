@@ -216,6 +216,8 @@ static shot *render(const char *path, int k, int n, double dphi)
     s->scene.obs_phi.a += dphi;
     s->scene.obs_phi.b += dphi;
     cr_sysconfig_defaults(&cfg);
+    ts.integrator = cfg.integrator;
+    ts.tolerance = cfg.tolerance;
     ts.step_multiplier = cfg.step_multiplier;
     ts.horizon_epsilon = cfg.horizon_epsilon;
     ts.max_steps = cfg.max_steps;

@@ -261,22 +261,33 @@ static void cr_log_scene(cr_run *run)
     const double deg = 180.0 / CR_PI;
     cr_log_info(&run->log, "scene %s: M = %g, a = %g, Q = %g%s", s->path, s->m.a, s->a.a, s->q.a,
                 (s->m.a != s->m.b || s->a.a != s->a.b || s->q.a != s->q.b) ? " (animated)" : "");
-    cr_log_info(&run->log, "observer at r = %g, theta = %g deg, phi = %g deg, hfov %g deg%s",
-                s->obs_r.a, s->obs_theta.a * deg, s->obs_phi.a * deg, s->hfov.a * deg,
-                run->cli.frames > 1 ? " (frame 0)" : "");
+    if (s->obs_at_infinity)
+        cr_log_info(&run->log,
+                    "observer at infinity, theta = %g deg, phi = %g deg, image plane %g M wide%s",
+                    s->obs_theta.a * deg, s->obs_phi.a * deg, s->hextent.a,
+                    run->cli.frames > 1 ? " (frame 0)" : "");
+    else
+        cr_log_info(&run->log, "observer at r = %g, theta = %g deg, phi = %g deg, hfov %g deg%s",
+                    s->obs_r.a, s->obs_theta.a * deg, s->obs_phi.a * deg, s->hfov.a * deg,
+                    run->cli.frames > 1 ? " (frame 0)" : "");
     if (s->has_disc)
         cr_log_info(&run->log, "disc from r = %g to %g, %dx%d squares", s->disc_r_in.a,
                     s->disc_r_out.a, s->disc_n_radial, s->disc_n_sectors);
     if (s->n_spheres)
         cr_log_info(&run->log, "%d sphere%s", s->n_spheres, s->n_spheres > 1 ? "s" : "");
-    if (s->has_sky)
+    if (s->has_sky && s->sky_at_infinity)
+        cr_log_info(&run->log, "sky map %s (%dx%d) at infinity", s->sky_image, s->sky_width,
+                    s->sky_height);
+    else if (s->has_sky)
         cr_log_info(&run->log, "sky map %s (%dx%d), boundary %g", s->sky_image, s->sky_width,
                     s->sky_height, s->sky_boundary.a);
     cr_log_info(&run->log, "%ld frame%s of %ldx%ld pixels, outputs '%s' into %s, backend %s",
                 run->cli.frames, run->cli.frames > 1 ? "s" : "", run->cli.width,
                 run->cli.height, run->cli.output_type, run->cli.output_dir, run->info.backend);
-    cr_log_detail(&run->log, "raytracer: step multiplier %g, horizon epsilon %g, max steps %ld, "
-                             "max turns %g; %d CPU threads",
+    cr_log_detail(&run->log, "raytracer: integrator %s, tolerance %g (mino), step multiplier %g "
+                             "(rk4), horizon epsilon %g, max steps %ld, max turns %g; %d CPU "
+                             "threads",
+                  cr_integrator_name(run->ts.integrator), run->ts.tolerance,
                   run->ts.step_multiplier, run->ts.horizon_epsilon, run->ts.max_steps,
                   run->ts.max_turns, run->threads);
 }
@@ -379,6 +390,8 @@ int main(int argc, char **argv)
     run.threads = run.cli.threads > 0 ? (int)run.cli.threads
                                       : (run.cfg.cpu_threads > 0 ? run.cfg.cpu_threads
                                                                  : cr_cpu_cores());
+    run.ts.integrator = run.cfg.integrator;
+    run.ts.tolerance = run.cfg.tolerance;
     run.ts.step_multiplier = run.cfg.step_multiplier;
     run.ts.horizon_epsilon = run.cfg.horizon_epsilon;
     run.ts.max_steps = run.cfg.max_steps;

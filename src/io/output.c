@@ -288,18 +288,29 @@ static void cr_info_scene(FILE *fp, const cr_scene *s)
     cr_put_anim(fp, "spin a = J/M", s->a, "");
     cr_put_anim(fp, "charge Q", s->q, "");
     fprintf(fp, "Observer (Boyer-Lindquist)\n");
-    cr_put_anim(fp, "r", s->obs_r, "");
+    if (s->obs_at_infinity)
+        fprintf(fp, "  %-22s inf (the observer at infinity)\n", "r");
+    else
+        cr_put_anim(fp, "r", s->obs_r, "");
     cr_put_angle(fp, "theta", s->obs_theta);
     cr_put_angle(fp, "phi", s->obs_phi);
     cr_put_angle(fp, "roll", s->roll);
     cr_put_angle(fp, "pitch", s->pitch);
     cr_put_angle(fp, "yaw", s->yaw);
-    cr_put_angle(fp, "horizontal fov", s->hfov);
-    if (s->has_vfov)
-        cr_put_angle(fp, "vertical fov", s->vfov);
-    else
-        fprintf(fp, "  %-22s from the horizontal fov and the aspect ratio (E.4.1)\n",
-                "vertical fov");
+    if (s->obs_at_infinity) {
+        cr_put_anim(fp, "image plane width", s->hextent, "M");
+        if (s->has_vextent)
+            cr_put_anim(fp, "image plane height", s->vextent, "M");
+        else
+            fprintf(fp, "  %-22s from the width and the aspect ratio\n", "image plane height");
+    } else {
+        cr_put_angle(fp, "horizontal fov", s->hfov);
+        if (s->has_vfov)
+            cr_put_angle(fp, "vertical fov", s->vfov);
+        else
+            fprintf(fp, "  %-22s from the horizontal fov and the aspect ratio (E.4.1)\n",
+                    "vertical fov");
+    }
 
     fprintf(fp, "Accretion disc\n");
     if (!s->has_disc) {
@@ -320,7 +331,10 @@ static void cr_info_scene(FILE *fp, const cr_scene *s)
     } else {
         fprintf(fp, "  %-22s %s\n", "image", s->sky_image ? s->sky_image : "(none)");
         fprintf(fp, "  %-22s %d x %d pixels\n", "image size", s->sky_width, s->sky_height);
-        cr_put_anim(fp, "boundary R", s->sky_boundary, "");
+        if (s->sky_at_infinity)
+            fprintf(fp, "  %-22s inf (the sky at infinity)\n", "boundary R");
+        else
+            cr_put_anim(fp, "boundary R", s->sky_boundary, "");
     }
 
     fprintf(fp, "Spheres: %d\n", s->n_spheres);
@@ -367,7 +381,11 @@ static void cr_info_config(FILE *fp, const cr_sysconfig *c)
     else
         fprintf(fp, "  %-22s all online cores\n", "CPU threads");
     fprintf(fp, "  %-22s %.10g\n", "horizon epsilon", c->horizon_epsilon);
-    fprintf(fp, "  %-22s %.10g\n", "step multiplier", c->step_multiplier);
+    fprintf(fp, "  %-22s %s\n", "integrator", cr_integrator_name(c->integrator));
+    fprintf(fp, "  %-22s %.10g%s\n", "tolerance", c->tolerance,
+            c->integrator == CR_INTEG_MINO ? "" : " (mino only, unused)");
+    fprintf(fp, "  %-22s %.10g%s\n", "step multiplier", c->step_multiplier,
+            c->integrator == CR_INTEG_RK4 ? "" : " (rk4 only, unused)");
     fprintf(fp, "  %-22s %ld\n", "max steps per ray", c->max_steps);
     fprintf(fp, "  %-22s %.10g\n", "max turns per ray", c->max_turns);
     fprintf(fp, "  %-22s %s\n", "verbose", cr_yes_no(c->verbose));

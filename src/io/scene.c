@@ -14,6 +14,7 @@
 
 #include "../core/trace.h"
 #include "png_io.h"
+#include "sysconfig.h"
 #include "yamlutil.h"
 
 /* Largest scene file read (bytes). */
@@ -165,25 +166,110 @@ static int parse_metric(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene
     return 0;
 }
 
+/* A key that takes inf as a plain value (observer.r, skymap.boundary):
+ * -1 with a message for -inf and for inf inside an animation, else 0 with
+ * *is_inf set when the value is inf. what says what inf means there. */
+static int get_inf(cr_yaml *y, yaml_node_t *node, const char *path, const char *what,
+                   int *is_inf, cr_err *err)
+{
+    char sub[CR_YAML_PATH], got[96];
+    int sign = cr_yaml_infinity_sign(node);
+    *is_inf = 0;
+    if (sign < 0) {
+        cr_yaml_describe(node, got, sizeof got);
+        return cr_yaml_fail(y, node, path, err,
+                            "expected a positive number or inf (%s), got %s", what, got);
+    }
+    if (sign > 0) {
+        *is_inf = 1;
+        return 0;
+    }
+    if (node && node->type == YAML_SEQUENCE_NODE) {
+        int i, m = (int)(node->data.sequence.items.top - node->data.sequence.items.start);
+        for (i = 1; i < m && i < 3; i++) {
+            yaml_node_t *it = cr_yaml_node(y, node->data.sequence.items.start[i]);
+            if (it && cr_yaml_infinity_sign(it) != 0) {
+                cr_yaml_path_index(sub, sizeof sub, path, i);
+                return cr_yaml_fail(y, it, sub, err,
+                                    "inf (%s) cannot be animated: write it as a plain value, "
+                                    "or animate between finite numbers",
+                                    what);
+            }
+        }
+    }
+    return 0;
+}
+
 static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
                           cr_err *err)
 {
-    enum { R, THETA, PHI, ROLL, PITCH, YAW, HFOV, VFOV, N };
-    cr_yaml_field f[N] = {REQ("r"),   REQ("theta"), REQ("phi"),  OPT("roll"),
-                          OPT("pitch"), OPT("yaw"), REQ("hfov"), OPT("vfov")};
+    enum { R, THETA, PHI, ROLL, PITCH, YAW, HFOV, VFOV, HEXT, VEXT, N };
+    cr_yaml_field f[N] = {REQ("r"),     REQ("theta"), REQ("phi"),  OPT("roll"),
+                          OPT("pitch"), OPT("yaw"),   OPT("hfov"), OPT("vfov"),
+                          OPT("hextent"), OPT("vextent")};
     const char *p = "observer";
-    if (cr_yaml_fields(y, map, p, key, f, N, err))
+    yaml_mark_t where;
+    int inf, i;
+
+    if (cr_yaml_fields(y, map, p, key, f, N, err) ||
+        get_inf(y, f[R].value, "observer.r", "the observer at infinity", &inf, err))
         return -1;
-    if (field_anim(y, &f[R], p, V_NUMBER, 0.0, &s->obs_r, err) ||
+    where = key ? key->start_mark : map->start_mark;
+    /* which keys apply depends on r: inf (hextent, vextent) or finite (hfov, vfov) */
+    if (inf) {
+        for (i = HFOV; i <= VFOV; i++)
+            if (f[i].value) {
+                char sub[CR_YAML_PATH];
+                cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+                return cr_yaml_fail(y, f[i].key_node, sub, err,
+                                    "an observer at infinity (r: inf) has no field of view; "
+                                    "give the width of its image plane with hextent (a "
+                                    "length, like r), and optionally its height with vextent");
+            }
+        if (!f[HEXT].value)
+            return cr_yaml_fail_at(y, where, p, err,
+                                   "missing required key 'hextent' (the observer at infinity, "
+                                   "r: inf, needs the full width of its image plane, a length "
+                                   "like r)");
+    } else {
+        for (i = HEXT; i <= VEXT; i++)
+            if (f[i].value) {
+                char sub[CR_YAML_PATH];
+                cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+                return cr_yaml_fail(y, f[i].key_node, sub, err,
+                                    "applies only to the observer at infinity (r: inf); an "
+                                    "observer at a finite r takes hfov (and vfov)");
+            }
+        if (!f[HFOV].value)
+            return cr_yaml_fail_at(y, where, p, err, "missing required key 'hfov'");
+    }
+    if ((!inf && field_anim(y, &f[R], p, V_NUMBER, 0.0, &s->obs_r, err)) ||
         field_anim(y, &f[THETA], p, V_ANGLE, 0.0, &s->obs_theta, err) ||
         field_anim(y, &f[PHI], p, V_ANGLE, 0.0, &s->obs_phi, err) ||
         field_anim(y, &f[ROLL], p, V_ANGLE, 0.0, &s->roll, err) ||
         field_anim(y, &f[PITCH], p, V_ANGLE, 0.0, &s->pitch, err) ||
         field_anim(y, &f[YAW], p, V_ANGLE, 0.0, &s->yaw, err) ||
         field_anim(y, &f[HFOV], p, V_ANGLE, 0.0, &s->hfov, err) ||
-        field_anim(y, &f[VFOV], p, V_ANGLE, 0.0, &s->vfov, err))
+        field_anim(y, &f[VFOV], p, V_ANGLE, 0.0, &s->vfov, err) ||
+        field_anim(y, &f[HEXT], p, V_NUMBER, 0.0, &s->hextent, err) ||
+        field_anim(y, &f[VEXT], p, V_NUMBER, 0.0, &s->vextent, err))
         return -1;
+    if (inf) {
+        s->obs_at_infinity = 1;
+        s->obs_r.a = s->obs_r.b = INFINITY;
+        for (i = PITCH; i <= YAW; i++) {
+            const cr_anim *v = i == PITCH ? &s->pitch : &s->yaw;
+            if (v->a != 0.0 || v->b != 0.0) {
+                char sub[CR_YAML_PATH];
+                cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+                return cr_yaml_fail(y, f[i].value, sub, err,
+                                    "must be 0: an observer at infinity (r: inf) always looks "
+                                    "at the hole and can only roll");
+            }
+        }
+    }
     s->has_vfov = f[VFOV].value != NULL;
+    s->has_vextent = f[VEXT].value != NULL;
     return 0;
 }
 
@@ -244,12 +330,18 @@ static int parse_skymap(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const ch
                         cr_scene *s, cr_err *err)
 {
     enum { IMAGE, BOUNDARY, N };
-    cr_yaml_field f[N] = {REQ("image"), REQ("boundary")};
+    cr_yaml_field f[N] = {REQ("image"), OPT("boundary")};
     const char *p = "skymap", *image;
     cr_err perr;
+    int inf;
 
     if (cr_yaml_fields(y, map, p, key, f, N, err) ||
         cr_yaml_string(y, f[IMAGE].value, "skymap.image", &image, err) ||
+        get_inf(y, f[BOUNDARY].value, "skymap.boundary", "the sky at infinity", &inf, err))
+        return -1;
+    /* omitted or inf: the sky at infinity */
+    s->sky_at_infinity = inf || !f[BOUNDARY].value;
+    if (!s->sky_at_infinity &&
         field_anim(y, &f[BOUNDARY], p, V_NUMBER, 0.0, &s->sky_boundary, err))
         return -1;
     s->sky_image = join_path(image[0] == '/' ? "" : base, image[0] == '/' ? 0 : strlen(base),
@@ -535,9 +627,10 @@ static int frame_metric(const cr_scene *s, int k, int n, cr_metric *mt, cr_err *
     rq = mt->q / mt->m;
     if (!(ra * ra + rq * rq <= 1.0 + EXTREMAL_TOL))
         return frame_fail(err, s, k, n,
-                          "metric: a^2 + q^2 = %g exceeds m^2 = %g, so there is no event "
-                          "horizon (a naked singularity); need a^2 + q^2 <= m^2",
-                          mt->a * mt->a + mt->q * mt->q, mt->m * mt->m);
+                          "metric.a = %g, metric.q = %g: a^2 + q^2 = %g exceeds m^2 = %g, so "
+                          "there is no event horizon (a naked singularity); need "
+                          "a^2 + q^2 <= m^2",
+                          mt->a, mt->q, mt->a * mt->a + mt->q * mt->q, mt->m * mt->m);
     /* within the slack of the extremal case: round M up to it */
     if (mt->m * mt->m - mt->a * mt->a - mt->q * mt->q < 0.0)
         mt->m = sqrt(mt->a * mt->a + mt->q * mt->q);
@@ -553,15 +646,37 @@ static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, 
                           int height, cr_observer *o, cr_err *err)
 {
     double rp, re, mgtt;
-    if (eval(s->obs_r, k, n, &o->r) || eval(s->obs_theta, k, n, &o->theta) ||
+    const int inf = s->obs_at_infinity;
+    if ((!inf && eval(s->obs_r, k, n, &o->r)) || eval(s->obs_theta, k, n, &o->theta) ||
         eval(s->obs_phi, k, n, &o->phi) || eval(s->roll, k, n, &o->roll) ||
         eval(s->pitch, k, n, &o->pitch) || eval(s->yaw, k, n, &o->yaw) ||
-        eval(s->hfov, k, n, &o->hfov) || (s->has_vfov && eval(s->vfov, k, n, &o->vfov)))
+        (!inf && eval(s->hfov, k, n, &o->hfov)) ||
+        (!inf && s->has_vfov && eval(s->vfov, k, n, &o->vfov)) ||
+        (inf && eval(s->hextent, k, n, &o->hextent)) ||
+        (inf && s->has_vextent && eval(s->vextent, k, n, &o->vextent)))
         return frame_fail(err, s, k, n, "observer: a value is not a finite number");
     if (o->theta < -THETA_TOL || o->theta > CR_PI + THETA_TOL)
         return frame_fail(err, s, k, n, "observer.theta = %g deg lies outside 0 to 180 deg",
                           DEG(o->theta));
     o->theta = fmin(fmax(o->theta, 0.0), CR_PI);
+    if (inf) {
+        /* Bardeen's image plane: no horizon, ergosphere or range check applies */
+        o->r = INFINITY;
+        o->hfov = o->vfov = 0.0;
+        if (!(o->hextent > 0.0))
+            return frame_fail(err, s, k, n,
+                              "observer.hextent = %g: the width of the image plane must be "
+                              "positive",
+                              o->hextent);
+        if (!s->has_vextent) /* square pixels, as (E.4.1) */
+            o->vextent = o->hextent * (double)height / (double)width;
+        if (!(o->vextent > 0.0 && isfinite(o->vextent)))
+            return frame_fail(err, s, k, n,
+                              "observer.vextent = %g%s: the height of the image plane must be "
+                              "positive and finite",
+                              o->vextent, s->has_vextent ? "" : " (hextent x height / width)");
+        return 0;
+    }
     rp = cr_metric_r_plus(mt);
     if (o->r <= rp)
         return frame_fail(err, s, k, n,
@@ -646,12 +761,27 @@ static int frame_settings(const cr_scene *s, int k, int n, const cr_trace_settin
 {
     cr_trace_settings def;
     if (!ts) {
+        def.integrator = CR_DEFAULT_INTEGRATOR;
+        def.tolerance = CR_DEFAULT_TOLERANCE;
         def.step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
         def.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
         def.max_steps = CR_DEFAULT_MAX_STEPS;
         def.max_turns = CR_DEFAULT_MAX_TURNS;
         ts = &def;
     }
+    if (ts->integrator < 0 || ts->integrator >= CR_INTEG_COUNT_)
+        return frame_fail(err, s, k, n,
+                          "raytracer.integrator = %d is not an integrator (expected one of: %s)",
+                          ts->integrator, cr_integrator_names());
+    if (!(ts->tolerance > 0.0 && isfinite(ts->tolerance)))
+        return frame_fail(err, s, k, n, "raytracer.tolerance = %g must be positive",
+                          ts->tolerance);
+    if (s->obs_at_infinity && ts->integrator == CR_INTEG_RK4)
+        return frame_fail(err, s, k, n,
+                          "raytracer.integrator = %s: the rk4 integrator cannot start at "
+                          "infinity (observer.r: inf); use mino, or give observer.r a finite "
+                          "value",
+                          cr_integrator_name(ts->integrator));
     if (!(ts->step_multiplier > 0.0 && isfinite(ts->step_multiplier)))
         return frame_fail(err, s, k, n, "raytracer.step_multiplier = %g must be positive",
                           ts->step_multiplier);
@@ -664,6 +794,8 @@ static int frame_settings(const cr_scene *s, int k, int n, const cr_trace_settin
     if (!(ts->max_turns > 0.0))
         return frame_fail(err, s, k, n, "raytracer.max_turns = %g must be positive",
                           ts->max_turns);
+    f->integrator = ts->integrator;
+    f->tolerance = ts->tolerance;
     f->step_multiplier = ts->step_multiplier;
     f->horizon_epsilon = ts->horizon_epsilon;
     f->max_steps = ts->max_steps;
@@ -697,7 +829,9 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     if (s->has_sky) {
         if (!s->sky_rgb || s->sky_width < 1 || s->sky_height < 1)
             return frame_fail(err, s, k, n, "skymap: no sky image is loaded");
-        if (eval(s->sky_boundary, k, n, &f->sky_boundary) || !(f->sky_boundary > 0.0))
+        if (s->sky_at_infinity)
+            f->sky_boundary = 0.0;
+        else if (eval(s->sky_boundary, k, n, &f->sky_boundary) || !(f->sky_boundary > 0.0))
             return frame_fail(err, s, k, n, "skymap.boundary = %g must be positive",
                               f->sky_boundary);
         f->sky.rgb = s->sky_rgb;
@@ -710,7 +844,9 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     f->width = width;
     f->height = height;
     cr_frame_prepare(f);
-    if (!isfinite(f->r_max) || !isfinite(f->r_stop) || !(f->obs_sqrt_mgtt > 0.0) ||
+    /* the boundary of an observer at infinity is at infinity too */
+    if (!(isfinite(f->r_max) || (s->obs_at_infinity && f->r_max == INFINITY)) ||
+        !isfinite(f->r_stop) || !(f->obs_sqrt_mgtt > 0.0) ||
         !isfinite(f->obs_sqrt_mgtt) || !isfinite(f->tan_half_h) || !isfinite(f->tan_half_v))
         return frame_fail(err, s, k, n,
                           "the scene's numbers are too large to trace (r_max = %g)", f->r_max);

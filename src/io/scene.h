@@ -42,10 +42,18 @@ typedef struct cr_scene {
     cr_anim m, a, q; /* metric: required */
 
     cr_anim obs_r, obs_theta, obs_phi; /* required */
-    cr_anim roll, pitch, yaw;          /* optional, default 0 */
-    cr_anim hfov;                      /* required */
+    int obs_at_infinity;               /* r: inf (not animatable): obs_r = +inf, the
+                                          observer at infinity (Bardeen's image plane) */
+    cr_anim roll, pitch, yaw;          /* optional, default 0; at infinity
+                                          pitch = yaw = 0 (it can only roll) */
+    cr_anim hfov;                      /* required for a finite r; unused at infinity */
     cr_anim vfov;                      /* optional: has_vfov == 0 -> from (E.4.1) */
     int has_vfov;
+    cr_anim hextent;                   /* r: inf only, required: full width of the image
+                                          plane (impact parameter alpha), a length like r */
+    cr_anim vextent;                   /* r: inf only, optional: has_vextent == 0 ->
+                                          hextent * height / width (square pixels) */
+    int has_vextent;
 
     int has_disc;
     cr_rgb disc_color1, disc_color2; /* color2 defaults to (E.4.2) with ERRATA 3 */
@@ -55,7 +63,9 @@ typedef struct cr_scene {
 
     int has_sky;
     char *sky_image;      /* path as resolved relative to the scene file's folder */
-    cr_anim sky_boundary; /* R of 6.10 */
+    cr_anim sky_boundary; /* R of 6.10, > 0, when sky_at_infinity == 0 */
+    int sky_at_infinity;  /* boundary omitted or inf: the sky at infinity (frame
+                             sky_boundary = 0: the ray's asymptotic direction) */
     uint8_t *sky_rgb;     /* loaded pixels, width*height*3, row 0 = theta 0 */
     int sky_width, sky_height;
 
@@ -96,8 +106,12 @@ typedef struct cr_trace_settings {
  * from 0, like the output files) when n > 1. Returns -1 with a clear message when this frame's values
  * are physically impossible (ERRATA item 4): no horizon (M <= 0 or
  * a^2 + Q^2 > M^2), observer at or inside the horizon or inside the
- * ergosphere, a field of view outside (0, 180) deg, a disc with r_in >= r_out
- * or r_in < 0, a sphere radius <= 0, ... */
+ * ergosphere, a field of view outside (0, 180) deg, an image-plane extent
+ * <= 0 (observer at infinity), a disc with r_in >= r_out or r_in < 0, a
+ * sphere radius <= 0, a setting out of range (tolerance <= 0, ...), the rk4
+ * integrator with the observer at infinity, ...
+ * The observer at infinity gives observer.r = +INFINITY, hextent and vextent
+ * set, hfov = vfov = 0; r_max may then be +INFINITY. */
 int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
                    const cr_trace_settings *ts, cr_frame *f, cr_sphere *sphere_buf, cr_err *err);
 

@@ -717,6 +717,23 @@ int cr_yaml_number(cr_yaml *y, yaml_node_t *node, const char *path, double *out,
     return 0;
 }
 
+int cr_yaml_infinity_sign(const yaml_node_t *node)
+{
+    const char *s;
+    size_t n;
+    int sign = 1;
+    if (cr_yaml_is_null(node) || scalar_trimmed(node, &s, &n))
+        return 0;
+    if (n > 0 && (s[0] == '+' || s[0] == '-')) {
+        sign = s[0] == '-' ? -1 : 1;
+        s++;
+        n--;
+    }
+    if (word_is(s, n, "inf") || word_is(s, n, "infinity") || word_is(s, n, ".inf"))
+        return sign;
+    return 0;
+}
+
 #define ANGLE_EXPECT "an angle like 90, \"90 deg\", \"1.57 rad\" or \"0.5 pi\""
 
 int cr_yaml_angle(cr_yaml *y, yaml_node_t *node, const char *path, double *out_rad,

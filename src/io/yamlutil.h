@@ -124,6 +124,13 @@ int cr_yaml_number(cr_yaml *y, yaml_node_t *node, const char *path, double *out,
 int cr_yaml_angle(cr_yaml *y, yaml_node_t *node, const char *path, double *out_rad,
                   cr_err *err);
 
+/* Whether a scalar spells infinity: +1 for inf, infinity or .inf (any
+ * letter case, optionally with '+'), -1 for the same with '-', 0 for anything
+ * else (numbers, nan, other words, non-scalars). For the few keys that take
+ * inf as a value (observer.r, skymap.boundary); cr_yaml_number still rejects
+ * it everywhere. */
+int cr_yaml_infinity_sign(const yaml_node_t *node);
+
 /* A decimal integer in [lo, hi]; "2.0" and "1e3" are not integers. what
  * describes it in messages ("a positive integer"); NULL gives "an integer
  * from LO to HI". */

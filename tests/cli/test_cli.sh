@@ -255,8 +255,71 @@ scene "sphere radius 0" 1 "radius = 0 must be positive" \
     "$GOOD"$'sphere: {color: [0, 0, 255], resolution: [4, 8], r: 8, theta: 90, phi: 0, radius: 0}\n'
 scene "sky boundary 0" 1 "skymap.boundary = 0 must be positive" \
     "$GOOD"$'skymap: {image: '"$ROOT"$'/scenes/sky_grid.png, boundary: 0}\n'
-scene "impossible only in the last frame" 1 "bad.yml: frame 2 of 3: metric: a^2 + q^2 = 4 exceeds m^2 = 1" \
+scene "impossible only in the last frame" 1 "bad.yml: frame 2 of 3: metric.a = 2, metric.q = 0: a^2 + q^2 = 4 exceeds m^2 = 1" \
     $'metric: {m: 1, a: [linear, 0, 2], q: 0}\n'"$OBS" -f 3
+
+# --- integrator, tolerance, the observer and the sky at infinity ------------
+printf 'raytracer: {integrator: euler}\n' >c.yml
+expect "unknown integrator" 1 'c.yml:1:25: raytracer.integrator: unknown integrator "euler" (expected one of: mino, rk4)' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {tolerance: 0}\n' >c.yml
+expect "tolerance 0" 1 'c.yml:1:24: raytracer.tolerance: expected a positive number, got "0"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {tolerance: -1e-8}\n' >c.yml
+expect "negative tolerance" 1 'c.yml:1:24: raytracer.tolerance: expected a positive number, got "-1e-8"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {tolerance: tight}\n' >c.yml
+expect "tolerance is a word" 1 'c.yml:1:24: raytracer.tolerance: expected a number, got "tight"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {tolerance: .nan}\n' >c.yml
+expect "tolerance NaN" 1 'c.yml:1:24: raytracer.tolerance: expected a finite number, got ".nan"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+INF=$'observer: {r: inf, theta: 85, phi: 0, hextent: 40}\n'
+scene "r: inf, no horizon (a > M)" 1 "metric.a = 1.2, metric.q = 0: a^2 + q^2 = 1.44 exceeds m^2 = 1, so there is no event horizon" \
+    $'metric: {m: 1, a: 1.2, q: 0}\n'"$INF"
+scene "r: inf, no horizon (Q > M)" 1 "metric.a = 0, metric.q = 1.5: a^2 + q^2 = 2.25 exceeds m^2 = 1" \
+    $'metric: {m: 1, a: 0, q: 1.5}\n'"$INF"
+scene "r: inf, image plane width 0" 1 "observer.hextent = 0: the width of the image plane must be positive" \
+    "$MET"$'observer: {r: inf, theta: 85, phi: 0, hextent: 0}\n'
+scene "r: inf, negative image plane width" 1 "observer.hextent = -10: the width of the image plane must be positive" \
+    "$MET"$'observer: {r: inf, theta: 85, phi: 0, hextent: -10}\n'
+scene "r: inf, image plane height 0" 1 "observer.vextent = 0: the height of the image plane must be positive" \
+    "$MET"$'observer: {r: inf, theta: 85, phi: 0, hextent: 40, vextent: 0}\n'
+scene "r: inf without hextent" 1 "bad.yml:2:1: observer: missing required key 'hextent'" \
+    "$MET"$'observer: {r: inf, theta: 85, phi: 0}\n'
+scene "r: inf with hfov" 1 "bad.yml:2:39: observer.hfov: an observer at infinity (r: inf) has no field of view; give the width of its image plane with hextent" \
+    "$MET"$'observer: {r: inf, theta: 85, phi: 0, hfov: 60}\n'
+scene "hextent with a finite r" 1 "bad.yml:2:48: observer.hextent: applies only to the observer at infinity (r: inf)" \
+    "$MET"$'observer: {r: 20, theta: 90, phi: 0, hfov: 60, hextent: 40}\n'
+scene "r: inf with pitch" 1 "bad.yml:2:59: observer.pitch: must be 0: an observer at infinity (r: inf) always looks at the hole and can only roll" \
+    "$MET"$'observer: {r: inf, theta: 85, phi: 0, hextent: 40, pitch: 10}\n'
+scene "r: inf animated" 1 "bad.yml:2:24: observer.r[1]: inf (the observer at infinity) cannot be animated" \
+    "$MET"$'observer: {r: [linear, inf, 30], theta: 85, phi: 0, hextent: 40}\n'
+scene "r: -inf" 1 'bad.yml:2:15: observer.r: expected a positive number or inf (the observer at infinity), got "-inf"' \
+    "$MET"$'observer: {r: -inf, theta: 85, phi: 0, hextent: 40}\n'
+printf 'raytracer: {integrator: rk4}\n' >c.yml
+printf '%s' "$MET$INF" >inf.yml
+expect "r: inf with the rk4 integrator" 1 "raytracer.integrator = rk4: the rk4 integrator cannot start at infinity (observer.r: inf); use mino" \
+    -s inf.yml -c c.yml -o o -x 8 -y 8
+# the good case: an observer at infinity, its sky at infinity (no boundary)
+rm -rf o
+printf '%s' "$MET$INF" >inf_good.yml
+printf 'skymap: {image: %s}\n' "$ROOT/scenes/sky_grid.png" >>inf_good.yml
+run -s inf_good.yml -o o -x 8 -y 8 -t icd -a true
+if [ "$RC" = 0 ] && [ -f o/c_0.png ] && [ -f o/d_0.csv ] &&
+    grep -q '^  r  *inf (the observer at infinity)$' o/info.txt &&
+    grep -q '^  image plane width  *40 M$' o/info.txt &&
+    grep -q '^  boundary R  *inf (the sky at infinity)$' o/info.txt &&
+    grep -q '^  integrator  *mino$' o/info.txt; then
+    ok "observer and sky at infinity render"
+else
+    bad "observer and sky at infinity render" "exit status $RC"
+fi
+rm -rf o
+scene "sky boundary -inf" 1 'skymap.boundary: expected a positive number or inf (the sky at infinity), got "-inf"' \
+    "$GOOD"$'skymap: {image: '"$ROOT"$'/scenes/sky_grid.png, boundary: -inf}\n'
+scene "sky boundary animated to inf" 1 "skymap.boundary[2]: inf (the sky at infinity) cannot be animated" \
+    "$GOOD"$'skymap: {image: '"$ROOT"$'/scenes/sky_grid.png, boundary: [linear, 50, inf]}\n'
 
 # --- sizes and frame counts -------------------------------------------------
 expect "width 0" 2 "-x: expected a width from 1 to 65536 pixels, got '0'" -s good.yml -o o -x 0 -y 8

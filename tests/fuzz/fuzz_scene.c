@@ -6,7 +6,7 @@
  * cr_frame_prepare). Besides crashes and sanitizer reports, the target aborts
  * when a contract of scene.h is broken: a failure without a message, a failed
  * load that leaves something in *out, or an accepted frame with non-finite
- * numbers.
+ * numbers (but observer.r and r_max of the observer at infinity, r: inf).
  *
  * Sky images are read from the file system (relative to the current folder).
  * They are not what is fuzzed here: an input naming a device or a pseudo-file
@@ -69,15 +69,30 @@ static void check_frame(const cr_frame *f, int n_spheres)
     int i;
     CHECK(f->width == 4 && f->height == 4);
     CHECK(f->metric.m > 0.0 && isfinite(f->metric.a) && isfinite(f->metric.q));
-    CHECK(isfinite(f->observer.r) && f->observer.r > 0.0);
     CHECK(f->observer.theta >= 0.0 && f->observer.theta <= CR_PI);
-    CHECK(f->observer.hfov > 0.0 && f->observer.hfov < CR_PI);
-    CHECK(f->observer.vfov > 0.0 && f->observer.vfov < CR_PI);
-    CHECK(isfinite(f->r_max) && isfinite(f->r_stop));
+    if (isinf(f->observer.r)) {
+        /* the observer at infinity: an image plane of finite extents, no
+         * field of view, only roll; the boundary is at infinity too */
+        CHECK(f->observer.r > 0.0);
+        CHECK(f->observer.hextent > 0.0 && isfinite(f->observer.hextent));
+        CHECK(f->observer.vextent > 0.0 && isfinite(f->observer.vextent));
+        CHECK(f->observer.hfov == 0.0 && f->observer.vfov == 0.0);
+        CHECK(f->observer.pitch == 0.0 && f->observer.yaw == 0.0);
+        CHECK(f->integrator != CR_INTEG_RK4);
+        CHECK(isfinite(f->r_max) || f->r_max == INFINITY);
+    } else {
+        CHECK(isfinite(f->observer.r) && f->observer.r > 0.0);
+        CHECK(f->observer.hfov > 0.0 && f->observer.hfov < CR_PI);
+        CHECK(f->observer.vfov > 0.0 && f->observer.vfov < CR_PI);
+        CHECK(isfinite(f->r_max));
+        for (i = 0; i < 16; i++)
+            CHECK(isfinite(f->tetrad[i / 4][i % 4]));
+    }
+    CHECK(f->tolerance > 0.0 && isfinite(f->tolerance));
+    CHECK(f->sky_boundary >= 0.0 && isfinite(f->sky_boundary));
+    CHECK(isfinite(f->r_stop));
     CHECK(f->obs_sqrt_mgtt > 0.0 && isfinite(f->obs_sqrt_mgtt));
     CHECK(isfinite(f->tan_half_h) && isfinite(f->tan_half_v));
-    for (i = 0; i < 16; i++)
-        CHECK(isfinite(f->tetrad[i / 4][i % 4]));
     for (i = 0; i < 9; i++)
         CHECK(isfinite(f->cam[i / 3][i % 3]));
     CHECK(f->n_spheres == n_spheres);
