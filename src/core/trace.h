@@ -68,6 +68,37 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
     cr_camera_prepare(f);
 }
 
+/* Express every length of a frame in units of M (DESIGN "Conventions"), so
+ * that an image never depends on the choice of M: divides the metric, the
+ * observer's r and image-plane extents, the disc radii and the sky boundary
+ * by M, and sets M = 1. Spheres are scaled by cr_sphere_to_units_of_m.
+ * The dimensionless settings (horizon_epsilon, step_multiplier, tolerance)
+ * are read in units of M. Call before cr_frame_prepare. */
+CR_HD static inline void cr_frame_to_units_of_m(cr_frame *f)
+{
+    double k = 1.0 / f->metric.m;
+    f->metric.a *= k;
+    f->metric.q *= k;
+    f->metric.m = 1.0;
+    f->observer.r *= k;
+    f->observer.hextent *= k;
+    f->observer.vextent *= k;
+    f->disc.r_in *= k;
+    f->disc.r_out *= k;
+    f->sky_boundary *= k;
+}
+
+/* The same for a sphere prepared (cr_sphere_prepare) on a metric of mass m. */
+CR_HD static inline void cr_sphere_to_units_of_m(cr_sphere *s, double m)
+{
+    double k = 1.0 / m;
+    int i;
+    s->r *= k;
+    s->radius *= k;
+    for (i = 0; i < 3; i++)
+        s->center[i] *= k;
+}
+
 /* Largest state of either integrator. */
 #define CR_RAY_NY ((int)CR_MN > (int)CR_NY ? (int)CR_MN : (int)CR_NY)
 

@@ -843,6 +843,11 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     f->error_color = s->error_color;
     f->width = width;
     f->height = height;
+    /* inside the core every length is in units of M (messages above use the
+     * scene's own units) */
+    for (i = 0; i < s->n_spheres; i++)
+        cr_sphere_to_units_of_m(&sphere_buf[i], f->metric.m);
+    cr_frame_to_units_of_m(f);
     cr_frame_prepare(f);
     /* the boundary of an observer at infinity is at infinity too */
     if (!(isfinite(f->r_max) || (s->obs_at_infinity && f->r_max == INFINITY)) ||
