@@ -294,7 +294,7 @@ CR_HD static inline double cr_dp5_try(const cr_mino *c, double tol, double h, co
                  e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
     double (*k)[CR_MN] = st->k;
     double t[CR_MN];
-    double err = 0.0, sc[CR_MN];
+    double err = 0.0, sc[CR_MN]; /* 1 / (tol * scale) */
     int i;
     for (i = 0; i < CR_MN; i++)
         t[i] = y0[i] + h * a21 * k[0][i];
@@ -317,15 +317,23 @@ CR_HD static inline double cr_dp5_try(const cr_mino *c, double tol, double h, co
                              b6 * k[5][i]);
     cr_mino_rhs(c, y1, k[6]);
 
-    sc[CR_M_W] = fmax(fmax(fabs(y0[CR_M_W]), fabs(y1[CR_M_W])), 1e-3);
-    sc[CR_M_DW] = fabs(c->E) + fmax(fabs(y0[CR_M_DW]), fabs(y1[CR_M_DW]));
-    sc[CR_M_NX] = sc[CR_M_NY] = sc[CR_M_NZ] = 1.0;
-    sc[CR_M_DNX] = sc[CR_M_DNY] = sc[CR_M_DNZ] = c->omega;
-    sc[CR_M_PR] = 1.0;
+    {
+        /* inverse scales: one division for w, one for dw/dtau */
+        double w0 = fabs(y0[CR_M_W]), w1 = fabs(y1[CR_M_W]);
+        double d0 = fabs(y0[CR_M_DW]), d1 = fabs(y1[CR_M_DW]);
+        double itol = 1.0 / tol;
+        double wm = w0 > w1 ? w0 : w1;
+        wm = wm > 1e-3 ? wm : 1e-3;
+        sc[CR_M_W] = itol / wm;
+        sc[CR_M_DW] = itol / (fabs(c->E) + (d0 > d1 ? d0 : d1));
+        sc[CR_M_NX] = sc[CR_M_NY] = sc[CR_M_NZ] = itol;
+        sc[CR_M_DNX] = sc[CR_M_DNY] = sc[CR_M_DNZ] = itol / c->omega;
+        sc[CR_M_PR] = itol;
+    }
     for (i = 0; i < CR_MN; i++) {
         double e = h * (e1 * k[0][i] + e3 * k[2][i] + e4 * k[3][i] + e5 * k[4][i] +
                         e6 * k[5][i] + e7 * k[6][i]);
-        double r = fabs(e) / (tol * sc[i]);
+        double r = fabs(e) * sc[i];
         if (!(r <= err)) /* also propagates NaN */
             err = r;
     }
