@@ -13,14 +13,18 @@
 #include <math.h>
 #include <png.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
+#include "io/atomic.h"
 #include "io/fsutil.h"
+#include "io/info.h"
 #include "io/log.h"
 #include "io/output.h"
 #include "io/png_io.h"
@@ -852,7 +856,7 @@ static void test_info(void **state)
     char *t = read_all(path, NULL);
     static const char *const want[] = {
         "curray 9.8.7",
-        "Written ",
+        "Started ",
         "  scene file             scenes/demo.yml\n",
         "  configuration file     (built-in defaults)\n",
         "  backend                cpu\n",
@@ -965,6 +969,197 @@ static void test_info_at_infinity(void **state)
     t = read_all(path, NULL);
     assert_non_null(strstr(t, "  image plane height     30 M\n"));
     free(t);
+}
+
+/* Bytes this process has handed to write(2) and its kin so far, as the
+ * kernel counts them ("wchar" in /proc/self/io); -1 where it does not. */
+static long long wchar_now(void)
+{
+    FILE *fp = fopen("/proc/self/io", "r");
+    char line[128];
+    long long v = -1;
+    if (!fp)
+        return -1;
+    while (fgets(line, sizeof line, fp))
+        if (sscanf(line, "wchar: %lld", &v) == 1)
+            break;
+    fclose(fp);
+    return v;
+}
+
+static int ends_with(const char *s, size_t len, const char *tail)
+{
+    size_t n = strlen(tail);
+    return len >= n && memcmp(s + len - n, tail, n) == 0;
+}
+
+/* The text after the "Started" line (the only line that depends on when the
+ * file was begun). */
+static const char *after_started(const char *t)
+{
+    const char *p = strstr(t, "\nStarted ");
+    assert_non_null(p);
+    p = strchr(p + 1, '\n');
+    assert_non_null(p);
+    return p;
+}
+
+/* A run of 1,000 frames through cr_info: after every frame info.txt is the
+ * file after the previous frame plus exactly this frame's record, which ends
+ * with "Finished k+1 of N frames"; no temporary is left; and the bytes
+ * written for a frame (counted by the appender and, where the kernel counts
+ * them, by /proc/self/io) are that record alone, so they do not grow with
+ * the frame number while the file grows to ~300 KB. At the end the file is
+ * the one cr_info_write writes in one go for the same frames. */
+static void test_info_appends(void **state)
+{
+    fixture *f = *state;
+    enum { N = 1000 };
+    cr_frame_stats *st = calloc(N, sizeof *st);
+    cr_pixel px[4];
+    cr_info info;
+    cr_err err;
+    char path[4096], want[128], *prev = NULL;
+    size_t prev_len = 0, first_rec = 0, max_rec = 0;
+    int temps, kernel_counts = wchar_now() >= 0;
+    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 1, 1, N, "i", "9.8.7"};
+    cr_sysconfig cfg;
+
+    assert_non_null(st);
+    cr_sysconfig_defaults(&cfg);
+    memset(px, 0, sizeof px);
+    for (int i = 0; i < 4; i++) {
+        px[i].outcome = (uint8_t)(i < 2 ? CR_OUT_SKY : CR_OUT_DISC);
+        px[i].steps = 40u + (uint32_t)i;
+    }
+    join(path, f, "info.txt");
+    assert_int_equal(cr_info_begin(&info, f->dir, &run, NULL, &cfg, &err), 0);
+    assert_false(exists(path)); /* nothing until a frame has finished */
+
+    for (int k = 0; k < N; k++) {
+        unsigned long long b0 = info.file.bytes_written;
+        long long w0, w1;
+        size_t len, rec_len;
+        char *t;
+
+        cr_frame_stats_compute(px, 4, 0.125 * (1 + k % 5), &st[k]);
+        st[k].frame = k;
+        w0 = wchar_now();
+        assert_int_equal(cr_info_add_frame(&info, &st[k], &err), 0);
+        w1 = wchar_now();
+        assert_int_equal(info.n_done, k + 1);
+
+        t = read_all(path, &len);
+        assert_true(len > prev_len);
+        if (prev)
+            assert_memory_equal(t, prev, prev_len);
+        rec_len = len - prev_len;
+        if (k == 0) { /* the header, a blank line, the first record */
+            assert_non_null(strstr(t, "\n\nFrame 0\n"));
+        } else {
+            snprintf(want, sizeof want, "Frame %d\n", k);
+            assert_memory_equal(t + prev_len, want, strlen(want));
+        }
+        snprintf(want, sizeof want, "Finished %d of %d frames%s\n\n", k + 1, N,
+                 k + 1 < N ? " (run incomplete)" : "");
+        if (!ends_with(t, len, want))
+            fail_msg("after frame %d info.txt does not end with \"%s\"", k, want);
+        /* one frame in the record */
+        assert_null(strstr(k ? t + prev_len : strstr(t, "\nFrame ") + 1, "\nFrame "));
+
+        assert_int_equal(info.file.bytes_written - b0, rec_len);
+        if (kernel_counts)
+            assert_int_equal(w1 - w0, (long long)rec_len);
+        if (k == 1)
+            first_rec = rec_len;
+        if (rec_len > max_rec && k >= 1)
+            max_rec = rec_len;
+        assert_int_equal(count_entries(f->dir, &temps), 1);
+        assert_int_equal(temps, 0);
+        free(prev);
+        prev = t;
+        prev_len = len;
+    }
+    assert_int_equal(cr_info_end(&info, &err), 0);
+    /* the longest record is the first one plus the digits that "Frame 999"
+     * and "Finished 1000 of" add, whatever the size of the file */
+    assert_true(prev_len > 200u * first_rec);
+    assert_true(max_rec <= first_rec + 8);
+
+    {
+        char dir2[4096], path2[4096];
+        char *t2;
+        join(dir2, f, "oneshot");
+        assert_int_equal(cr_mkdir_p(dir2, &err), 0);
+        assert_int_equal(cr_info_write(dir2, &run, NULL, &cfg, st, N, &err), 0);
+        assert_int_equal(cr_path_join(path2, sizeof path2, dir2, "info.txt"), 0);
+        t2 = read_all(path2, NULL);
+        assert_string_equal(after_started(prev), after_started(t2));
+        free(t2);
+    }
+    free(prev);
+    free(st);
+}
+
+/* A record that does not fit (here: the file size limit, as on a full disk)
+ * leaves info.txt exactly as it was, and the next record goes on from there. */
+static void test_info_append_fails(void **state)
+{
+    fixture *f = *state;
+    cr_frame_stats st;
+    cr_pixel px[2];
+    cr_info info;
+    cr_err err;
+    char path[4096], *before, *t;
+    size_t before_len, len;
+    struct rlimit old, lim;
+    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 2, 1, 5, "i", "9.8.7"};
+
+    memset(px, 0, sizeof px);
+    px[0].outcome = CR_OUT_HORIZON;
+    px[1].outcome = CR_OUT_SKY;
+    cr_frame_stats_compute(px, 2, 1.0, &st);
+    join(path, f, "info.txt");
+
+    /* no frame finished: no file */
+    assert_int_equal(cr_info_begin(&info, f->dir, &run, NULL, NULL, &err), 0);
+    assert_int_equal(cr_info_end(&info, &err), 0);
+    assert_false(exists(path));
+
+    assert_int_equal(cr_info_begin(&info, f->dir, &run, NULL, NULL, &err), 0);
+    for (int k = 0; k < 2; k++) {
+        st.frame = k;
+        assert_int_equal(cr_info_add_frame(&info, &st, &err), 0);
+    }
+    before = read_all(path, &before_len);
+
+    /* room for 10 more bytes: the write is cut short, then refused */
+    assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+    lim = old;
+    lim.rlim_cur = (rlim_t)before_len + 10;
+    signal(SIGXFSZ, SIG_IGN);
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &lim), 0);
+    st.frame = 2;
+    assert_int_equal(cr_info_add_frame(&info, &st, &err), -1);
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+    signal(SIGXFSZ, SIG_DFL);
+    assert_non_null(strstr(err.msg, path));
+    assert_non_null(strstr(err.msg, strerror(EFBIG)));
+    assert_int_equal(info.n_done, 2);
+    t = read_all(path, &len);
+    assert_int_equal(len, before_len);
+    assert_memory_equal(t, before, len);
+    free(t);
+
+    /* the next try appends after the last whole record */
+    assert_int_equal(cr_info_add_frame(&info, &st, &err), 0);
+    assert_int_equal(cr_info_end(&info, &err), 0);
+    t = read_all(path, &len);
+    assert_memory_equal(t, before, before_len);
+    assert_non_null(strstr(t + before_len, "Frame 2\n"));
+    assert_true(ends_with(t, len, "Finished 3 of 5 frames (run incomplete)\n\n"));
+    free(t);
+    free(before);
 }
 
 /* --- folders ------------------------------------------------------------------ */
@@ -1214,6 +1409,8 @@ int main(void)
         cmocka_unit_test(test_stats),
         cmocka_unit_test_setup_teardown(test_info, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_at_infinity, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_info_appends, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_info_append_fails, setup, teardown),
         cmocka_unit_test_setup_teardown(test_mkdir_p, setup, teardown),
         cmocka_unit_test(test_path_join),
         cmocka_unit_test_setup_teardown(test_log, setup, teardown),

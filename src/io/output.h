@@ -1,5 +1,7 @@
-/* curray io: the per-frame output files (6.9, 6.11) and info.txt.
- * All files are written atomically (fsutil.h). */
+/* curray io: the files of one frame (6.9, 6.11): c_<k>.png, r_<k>.png and
+ * d_<k>.csv, each written atomically (atomic.h). info.txt, the run's
+ * summary, and the frame statistics are in info.h, included here so that a
+ * caller writing a frame finds both. */
 #ifndef CR_IO_OUTPUT_H
 #define CR_IO_OUTPUT_H
 
@@ -7,8 +9,7 @@
 
 #include "../core/defs.h"
 #include "error.h"
-#include "scene.h"
-#include "sysconfig.h"
+#include "info.h"
 
 /* Redshift colour of one pixel (6.9.1): R = 255 - 255 atan(z) 2/pi, G = 0,
  * B = 255 atan(z) 2/pi for z = omega_r/omega_s >= 0 (horizon z = 0: red);
@@ -30,42 +31,5 @@ int cr_output_csv(const char *dir, int k, const cr_pixel *px, int w, int h, cr_e
  * (cr_stream_check); name is used in the error message. */
 int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, int h,
                          cr_err *err);
-
-/* Statistics of one rendered frame, for info.txt and the console. */
-typedef struct cr_frame_stats {
-    double seconds;                       /* wall time of the tracing */
-    long long rays;
-    unsigned long long steps;             /* total RK4 steps */
-    unsigned int max_steps_ray;
-    double err_mean;                      /* mean over rays of their mean null error */
-    double err_max;                       /* largest per-ray mean null error */
-    long long counts[CR_OUT_COUNT_];      /* pixels per outcome */
-    int frame;                            /* frame index k (set by the caller) */
-} cr_frame_stats;
-
-void cr_frame_stats_compute(const cr_pixel *px, long long n, double seconds,
-                            cr_frame_stats *st);
-
-/* What info.txt describes besides the scene and configuration. */
-typedef struct cr_run_info {
-    const char *scene_path;
-    const char *config_path; /* NULL: built-in defaults */
-    const char *backend;     /* "cpu" or "cuda" ... */
-    int width, height, frames;
-    const char *output_types;
-    const char *version;
-} cr_run_info;
-
-/* Write (or rewrite) info.txt: a readable summary of the run, the scene,
- * the settings, and each finished frame (stats[0..n_done-1], in frame order,
- * stats[i].frame its index; with several GPUs they need not be contiguous)
- * with its statistics. Rewritten after every frame so that an interrupted run keeps a
- * valid summary of what it finished. */
-int cr_info_write(const char *dir, const cr_run_info *run, const cr_scene *scene,
-                  const cr_sysconfig *cfg, const cr_frame_stats *stats, int n_done,
-                  cr_err *err);
-
-/* Names of outcomes as used in CSV and info.txt. */
-const char *cr_outcome_name(int outcome);
 
 #endif

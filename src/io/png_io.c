@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fsutil.h"
+#include "atomic.h"
 
 /* What the callbacks of one read or write leave behind. */
 typedef struct cr_png_ctx {

@@ -1,0 +1,89 @@
+/* curray io: info.txt, the readable summary of a run (README "Outputs"), and
+ * the statistics of a frame that it and the console report.
+ *
+ * info.txt is a fixed header (version, start time, run settings, every scene
+ * value, the system configuration) followed by one record per finished
+ * frame, in the order the frames finished. Each record ends with the line
+ * "Finished <n> of <N> frames" (plus " (run incomplete)" while n < N), so the
+ * last line of the file always tells how far the run got.
+ *
+ * A run uses cr_info: the header is formatted once, the file appears with the
+ * first finished frame (written atomically), and every further frame appends
+ * its record (atomic.h: cr_appender). The cost of a frame's record does not
+ * grow with the number of frames before it. */
+#ifndef CR_IO_INFO_H
+#define CR_IO_INFO_H
+
+#include <stddef.h>
+
+#include "../core/defs.h"
+#include "atomic.h"
+#include "error.h"
+#include "scene.h"
+#include "sysconfig.h"
+
+/* Statistics of one rendered frame, for info.txt and the console. */
+typedef struct cr_frame_stats {
+    double seconds;                       /* wall time of the tracing */
+    long long rays;
+    unsigned long long steps;             /* total RK4 steps */
+    unsigned int max_steps_ray;
+    double err_mean;                      /* mean over rays of their mean null error */
+    double err_max;                       /* largest per-ray mean null error */
+    long long counts[CR_OUT_COUNT_];      /* pixels per outcome */
+    int frame;                            /* frame index k (set by the caller) */
+} cr_frame_stats;
+
+void cr_frame_stats_compute(const cr_pixel *px, long long n, double seconds,
+                            cr_frame_stats *st);
+
+/* What info.txt describes besides the scene and configuration. */
+typedef struct cr_run_info {
+    const char *scene_path;
+    const char *config_path; /* NULL: built-in defaults */
+    const char *backend;     /* "cpu" or "cuda" ... */
+    int width, height, frames;
+    const char *output_types;
+    const char *version;
+} cr_run_info;
+
+/* info.txt of one run, open from cr_info_begin to cr_info_end. */
+typedef struct cr_info {
+    char *header;       /* the fixed text before the first record (owned) */
+    size_t header_len;
+    int frames;         /* frames of the run; 0 when not known */
+    int n_done;         /* records written */
+    char path[4096];
+    cr_appender file;   /* closed until the first record */
+} cr_info;
+
+/* Format the header from run, scene and cfg (each may be NULL and is then
+ * left out), with the current time as the start of the run. Nothing is
+ * written yet: a run that finishes no frame leaves no info.txt. */
+int cr_info_begin(cr_info *info, const char *dir, const cr_run_info *run,
+                  const cr_scene *scene, const cr_sysconfig *cfg, cr_err *err);
+
+/* Record one finished frame (st->frame its index). The first call writes
+ * header and record atomically; later calls append the record. On failure
+ * the file is as it was before the call (still a valid summary of the frames
+ * recorded so far). */
+int cr_info_add_frame(cr_info *info, const cr_frame_stats *st, cr_err *err);
+
+/* fsync and close the file, free the header. Safe after a failed
+ * cr_info_begin, when no frame was recorded, and on a zeroed cr_info that
+ * was never begun; -1 only if the fsync or close fails. */
+int cr_info_end(cr_info *info, cr_err *err);
+
+/* The whole info.txt in one go, written atomically: the header, then
+ * stats[0..n_done-1] in the given order (with several GPUs the frames need
+ * not be contiguous). For a one-frame program or a test; a run of many
+ * frames uses cr_info_begin / cr_info_add_frame, whose cost per frame does
+ * not grow. */
+int cr_info_write(const char *dir, const cr_run_info *run, const cr_scene *scene,
+                  const cr_sysconfig *cfg, const cr_frame_stats *stats, int n_done,
+                  cr_err *err);
+
+/* Names of outcomes as used in CSV and info.txt. */
+const char *cr_outcome_name(int outcome);
+
+#endif
