@@ -35,17 +35,48 @@ static void cr_log_unlock(cr_log *lg)
 
 static const char *const cr_log_tags[] = {"info", "detail", "error"};
 
-int cr_log_open(cr_log *lg, const char *log_dir, int keep_log, int verbose, int quiet,
-                cr_err *err)
-{
-    char name[128];
+/* The most bytes of file lines cr_log_hold keeps. */
+#define CR_LOG_HOLD_MAX (1u << 20)
 
+static void cr_log_init(cr_log *lg, int verbose, int quiet)
+{
     memset(lg, 0, sizeof *lg);
     lg->lock_ready = pthread_mutex_init(&lg->lock, NULL) == 0;
     lg->verbose = verbose;
     lg->quiet = quiet;
+}
+
+void cr_log_hold(cr_log *lg, int verbose, int quiet)
+{
+    cr_log_init(lg, verbose, quiet);
+    lg->held_fp = open_memstream(&lg->held, &lg->held_len); /* NULL: nothing is kept */
+}
+
+/* End holding: close the memory stream, free its text. */
+static void cr_log_drop_held(cr_log *lg)
+{
+    if (lg->held_fp)
+        fclose(lg->held_fp);
+    free(lg->held);
+    lg->held_fp = NULL;
+    lg->held = NULL;
+    lg->held_len = 0;
+}
+
+int cr_log_open(cr_log *lg, const char *log_dir, int keep_log, int verbose, int quiet,
+                cr_err *err)
+{
+    cr_log_init(lg, verbose, quiet);
     if (!log_dir || !*log_dir)
         return 0; /* console only, by choice */
+    return cr_log_attach(lg, log_dir, keep_log, err);
+}
+
+/* Create the file of cr_log_attach; caller holds the lock. */
+static int cr_log_create(cr_log *lg, const char *log_dir, int keep_log, cr_err *err)
+{
+    char name[128];
+
     if (keep_log) {
         time_t now = time(NULL);
         struct tm tm;
@@ -70,6 +101,28 @@ int cr_log_open(cr_log *lg, const char *log_dir, int keep_log, int verbose, int 
     return 0;
 }
 
+int cr_log_attach(cr_log *lg, const char *log_dir, int keep_log, cr_err *err)
+{
+    int rc;
+    cr_log_lock(lg);
+    rc = cr_log_create(lg, log_dir, keep_log, err);
+    if (lg->held_fp) {
+        fclose(lg->held_fp); /* makes held / held_len final */
+        lg->held_fp = NULL;
+    }
+    if (rc == 0 && lg->held && lg->held_len > 0) {
+        fwrite(lg->held, 1, lg->held_len, lg->file);
+        if (lg->held_dropped)
+            fprintf(lg->file, "(%ld log lines were dropped here: more than %u bytes came before "
+                              "the log file could be made)\n",
+                    lg->held_dropped, CR_LOG_HOLD_MAX);
+        fflush(lg->file);
+    }
+    cr_log_drop_held(lg);
+    cr_log_unlock(lg);
+    return rc;
+}
+
 /* Remove an unfinished \r progress line from the terminal. */
 static void cr_log_end_progress(cr_log *lg)
 {
@@ -90,6 +143,7 @@ void cr_log_close(cr_log *lg)
         fflush(stdout);
         lg->progress_len = 0;
     }
+    cr_log_drop_held(lg);
     cr_log_unlock(lg);
     if (lg->file) {
         fclose(lg->file);
@@ -170,8 +224,14 @@ static void cr_log_line(cr_log *lg, enum cr_log_level level, const char *fmt, va
         fputc('\n', out);
         fflush(out);
     }
-    if (lg && lg->file)
+    if (lg && lg->file) {
         cr_log_to_file(lg->file, level, msg, len);
+    } else if (lg && lg->held_fp) {
+        if (lg->held_len + len < CR_LOG_HOLD_MAX)
+            cr_log_to_file(lg->held_fp, level, msg, len); /* its fflush updates held_len */
+        else
+            lg->held_dropped++;
+    }
     cr_log_unlock(lg);
     if (msg != stack_buf)
         free(msg);
