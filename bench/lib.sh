@@ -43,6 +43,24 @@ bench_ensure_time() {
 
 load1() { cut -d' ' -f1 /proc/loadavg; }
 
+# bench_info_value INFO KEY: a number from the first frame of info.txt.
+#   wall   the frame's wall time (s)
+#   rays   rays traced
+#   steps  integration steps of all rays (the line was "RK4 steps" before the
+#          Mino integrator; any "... steps N" line but "steps per ray")
+#   maxsteps  the largest steps of one ray ("steps per ray  X (max N)")
+bench_info_value() {
+    local info=$1 key=$2
+    [ -f "$info" ] || die "no $info"
+    case $key in
+    wall) awk '/^  wall time/ {print $3; exit}' "$info" ;;
+    rays) awk '/^  rays / {print $2; exit}' "$info" ;;
+    steps) awk '/^  [A-Za-z0-9 -]*steps +[0-9]+ *$/ && !/per ray/ {print $NF; exit}' "$info" ;;
+    maxsteps) awk '/^  steps per ray/ {gsub(/[()]/,""); print $NF; exit}' "$info" ;;
+    *) die "bench_info_value: unknown key $key" ;;
+    esac
+}
+
 # bench_measure SCENE W H BACKEND THREADS CONFIG RUN CSV
 # Renders one frame (info.txt only, so PNG/CSV writing is not timed) and
 # appends one row to CSV:
@@ -95,10 +113,10 @@ bench_measure() {
     fi
     local info="$out/frame/info.txt"
     local frame_s rays steps maxs
-    frame_s=$(awk '/^  wall time/ {print $3; exit}' "$info")
-    rays=$(awk '/^  rays / {print $2; exit}' "$info")
-    steps=$(awk '/^  RK4 steps/ {print $3; exit}' "$info")
-    maxs=$(awk '/^  steps per ray/ {gsub(/[()]/,""); print $6; exit}' "$info")
+    frame_s=$(bench_info_value "$info" wall)
+    rays=$(bench_info_value "$info" rays)
+    steps=$(bench_info_value "$info" steps)
+    maxs=$(bench_info_value "$info" maxsteps)
     rm -rf "$out"
     [ -n "$frame_s" ] && [ -n "$steps" ] || die "could not read $info"
     local process_s
