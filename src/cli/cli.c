@@ -1,5 +1,6 @@
 #include "cli.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <getopt.h>
 #include <stdlib.h>
@@ -61,12 +62,12 @@ void cr_cli_usage(const char *prog, FILE *out)
             "  -q, --quiet BOOL        no console output (the log still gets it)\n"
             "  -a, --auto_accept BOOL  do not ask before rendering\n"
             "      --backend B         auto (CUDA when a usable GPU exists), cpu or cuda\n"
-            "      --threads N         CPU threads (overrides cpu.threads)\n"
+            "      --threads N         CPU threads, 1 to %d (overrides cpu.threads)\n"
             "  -i, --info              list CUDA devices\n"
             "  -h, --help              this help\n"
             "      --version           print the version\n"
             "  --                      ignore the rest of the command line\n",
-            prog);
+            prog, CR_SYSCONFIG_MAX_THREADS);
 }
 
 int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *err)
@@ -119,8 +120,10 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
                                   CR_MAX_FRAMES, optarg);
             break;
         case OPT_THREADS:
-            if (cr_parse_long(optarg, 1, 1024, &c->threads))
-                return cr_err_set(err, "--threads: expected 1 to 1024, got '%s'", optarg);
+            if (cr_parse_long(optarg, 1, CR_SYSCONFIG_MAX_THREADS, &c->threads))
+                return cr_err_set(err, "--threads: expected a number of threads from 1 to %d, "
+                                       "got '%s'",
+                                  CR_SYSCONFIG_MAX_THREADS, optarg);
             break;
         case 'v': flag = &c->verbose; break;
         case 'q': flag = &c->quiet; break;
@@ -191,4 +194,11 @@ int cr_cli_check_render(const cr_cli *c, cr_err *err)
             return cr_err_set(err, "-t: unknown output type '%c' in '%s'; use any of i, c, r, d",
                               *p, c->output_type);
     return 0;
+}
+
+int cr_cli_answer_yes(const char *line)
+{
+    while (isspace((unsigned char)*line))
+        line++;
+    return *line == '\0' || *line == 'y' || *line == 'Y';
 }

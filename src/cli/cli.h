@@ -42,4 +42,9 @@ int cr_cli_check_render(const cr_cli *c, cr_err *err);
 
 void cr_cli_usage(const char *prog, FILE *out);
 
+/* The answer to "Proceed with rendering? [Y/n]": 1 for yes (an empty or
+ * blank line, or one whose first non-blank character is y or Y: " y",
+ * "Yes\n"), 0 for anything else. */
+int cr_cli_answer_yes(const char *line);
+
 #endif

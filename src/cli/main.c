@@ -3,11 +3,15 @@
  * Reads the command line, the system configuration and the scene; checks
  * every frame before anything is rendered; asks to proceed (E.1); renders the
  * stack of frames on the CPU or on one host thread per enabled GPU (6.2);
- * writes c_<k>.png, r_<k>.png, d_<k>.csv and info.txt atomically.
+ * writes c_<k>.png, r_<k>.png, d_<k>.csv and info.txt atomically, and the log
+ * in <output folder>/log/. Frames are counted from 0 everywhere: file names,
+ * console, log, info.txt and messages.
  *
  * Exit status: 0 done; 1 a run-time error (input, output, device); 2 a usage
- * error; 130 interrupted (finished frames are kept, the frame in progress
- * leaves no file).
+ * error; 130 interrupted (Ctrl-C or SIGTERM: finished frames are kept, the
+ * frame in progress leaves no file; a second Ctrl-C stops at once, still
+ * without partial files); a crash dies by its signal after writing
+ * <output folder>/log/crash-<time>-<pid>.log (crash.h).
  */
 #include <errno.h>
 #include <pthread.h>
@@ -28,21 +32,13 @@
 #include "../io/scene.h"
 #include "../io/sysconfig.h"
 #include "cli.h"
+#include "crash.h"
+#include "interrupt.h"
 
 #define CR_EXIT_OK 0
 #define CR_EXIT_ERROR 1
 #define CR_EXIT_USAGE 2
 #define CR_EXIT_INTERRUPTED 130
-
-/* The one piece of global state: set by SIGINT/SIGTERM, polled by the
- * renderers (a signal handler can reach nothing else). */
-static volatile sig_atomic_t cr_cancel_flag;
-
-static void cr_on_signal(int sig)
-{
-    (void)sig;
-    cr_cancel_flag = 1;
-}
 
 static double cr_now(void)
 {
@@ -51,17 +47,38 @@ static double cr_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+struct cr_run;
+
+/* One renderer: the CPU backend, or one GPU. */
+typedef struct cr_worker {
+    struct cr_run *run;
+    int slot;   /* index among the workers (cr_interrupt slot) */
+    int device; /* GPU number, or -1 for the CPU */
+    int frame;  /* frame in progress, for progress lines */
+    double frac; /* finished part of that frame, 0..1; guarded by run->lock */
+    pthread_t tid;
+} cr_worker;
+
 /* Shared state of one run; workers take frames from next_frame (the frame
  * stack of 6.2). */
 typedef struct cr_run {
+    int argc;
+    char **argv;
     cr_cli cli;
     cr_sysconfig cfg;
     cr_scene scene;
     cr_log log;
+    int log_open;
     cr_run_info info;
     cr_trace_settings ts;
+    char backend_name[64];
+    char *settings; /* the run's settings as text, for the crash report */
     int use_cuda;
-    int threads;
+    int threads; /* CPU threads in use (--threads, else cpu.threads, else all cores) */
+    int n_workers;
+    int devices[CR_MAX_GPUS];
+    cr_worker workers[CR_MAX_GPUS];
+    cr_interrupt intr; /* Ctrl-C; intr.count is the run's cancel flag */
     pthread_mutex_t lock;
     atomic_int next_frame;
     cr_frame_stats *stats; /* per frame */
@@ -72,49 +89,66 @@ typedef struct cr_run {
     double t_start;
 } cr_run;
 
-typedef struct cr_worker {
-    cr_run *run;
-    int device; /* GPU index, or -1 for the CPU */
-    int frame;  /* frame in progress, for progress lines */
-    double t_frame;
-    pthread_t tid;
-} cr_worker;
-
 static int cr_has_type(const cr_run *run, char t)
 {
     return strchr(run->cli.output_type, t) != NULL;
 }
 
+/* Progress of the whole run: frames finished plus the finished parts of the
+ * frames in progress, as a number of frames. Caller holds run->lock. */
+static double cr_run_work_done(const cr_run *run)
+{
+    double work = run->n_done;
+    int k;
+    for (k = 0; k < run->n_workers; k++)
+        work += run->workers[k].frac;
+    return work;
+}
+
+/* cr_progress_fn: one line per worker with its frame's percentage and the
+ * time left for the whole run, from the run's average speed so far. */
 static void cr_progress(void *ctx, int rows_done, int rows_total)
 {
     cr_worker *w = ctx;
     cr_run *run = w->run;
-    double el = cr_now() - w->t_frame, frac = (double)rows_done / rows_total;
+    double el = cr_now() - run->t_start, frac = (double)rows_done / rows_total, work;
+    pthread_mutex_lock(&run->lock);
+    w->frac = frac < 1.0 ? frac : 1.0;
+    work = cr_run_work_done(run);
+    pthread_mutex_unlock(&run->lock);
     if (rows_done >= rows_total)
         return;
-    if (frac > 0.0)
-        cr_log_progress(&run->log, "frame %d/%ld: %3.0f%%, %.0f s elapsed, about %.0f s left",
-                        w->frame + 1, run->cli.frames, 100.0 * frac, el,
-                        el * (1.0 - frac) / frac);
+    if (work > 0.0)
+        cr_log_progress(&run->log, "frame %d of %ld: %3.0f%%; run: %.0f s elapsed, about %.0f s "
+                                   "left",
+                        w->frame, run->cli.frames, 100.0 * frac, el,
+                        el * ((double)run->cli.frames - work) / work);
     else
-        cr_log_progress(&run->log, "frame %d/%ld: starting", w->frame + 1, run->cli.frames);
+        cr_log_progress(&run->log, "frame %d of %ld: starting", w->frame, run->cli.frames);
+}
+
+/* cr_gpu_cancel_fn */
+static int cr_cancelled(void *ctx)
+{
+    cr_worker *w = ctx;
+    return cr_interrupt_requested(&w->run->intr);
 }
 
 /* Rewrite info.txt with the finished frames, in frame order. Caller holds
- * run->lock. */
+ * run->lock. info.txt shows the CPU threads in use, not the file's value. */
 static int cr_write_info(cr_run *run, cr_err *err)
 {
     cr_frame_stats *list;
+    cr_sysconfig used = run->cfg;
     int k, n = 0, rc;
-    if (!cr_has_type(run, 'i'))
-        return 0;
     list = malloc(sizeof *list * (size_t)(run->n_done > 0 ? run->n_done : 1));
     if (!list)
         return cr_err_set(err, "out of memory writing info.txt");
     for (k = 0; k < run->cli.frames; k++)
         if (run->done[k])
             list[n++] = run->stats[k];
-    rc = cr_info_write(run->cli.output_dir, &run->info, &run->scene, &run->cfg, list, n, err);
+    used.cpu_threads = run->threads;
+    rc = cr_info_write(run->cli.output_dir, &run->info, &run->scene, &used, list, n, err);
     free(list);
     return rc;
 }
@@ -131,74 +165,117 @@ static void cr_remove_frame_files(const cr_run *run, int k, const char *types)
     }
 }
 
+/* Write frame k's file of type t (c, r or d), announced to the Ctrl-C
+ * handling (interrupt.h). */
+static int cr_write_frame_file(cr_worker *w, char t, int k, const cr_pixel *px, int width,
+                               int height, cr_err *err)
+{
+    cr_run *run = w->run;
+    const char *dir = run->cli.output_dir;
+    char name[64];
+    int rc;
+    snprintf(name, sizeof name, "%c_%d.%s", t, k, t == 'd' ? "csv" : "png");
+    if (cr_interrupt_file_begin(&run->intr, w->slot, name))
+        return cr_err_set(err, "interrupted");
+    if (t == 'c')
+        rc = cr_output_color_png(dir, k, px, width, height, err);
+    else if (t == 'r')
+        rc = cr_output_redshift_png(dir, k, px, width, height, err);
+    else
+        rc = cr_output_csv(dir, k, px, width, height, err);
+    cr_interrupt_file_end(&run->intr, w->slot, rc == 0, 0);
+    return rc;
+}
+
+/* Mark frame k finished with statistics st, rewrite info.txt and print the
+ * frame's line. Returns 0, or -1 with err set (the frame is then not
+ * finished). */
+static int cr_finish_frame(cr_worker *w, int k, const cr_frame_stats *st, cr_err *err)
+{
+    cr_run *run = w->run;
+    int rc = 0;
+    pthread_mutex_lock(&run->lock);
+    run->stats[k] = *st;
+    run->done[k] = 1;
+    run->n_done++;
+    w->frac = 0.0;
+    if (!cr_has_type(run, 'i')) {
+        cr_interrupt_frame_end(&run->intr, w->slot);
+    } else if (cr_interrupt_file_begin(&run->intr, w->slot, "info.txt")) {
+        rc = cr_err_set(err, "interrupted");
+    } else {
+        rc = cr_write_info(run, err);
+        cr_interrupt_file_end(&run->intr, w->slot, 0, rc == 0);
+    }
+    if (rc) {
+        run->done[k] = 0;
+        run->n_done--;
+    } else {
+        long long rays = st->rays > 0 ? st->rays : 1;
+        char where[32] = "";
+        if (w->device >= 0)
+            snprintf(where, sizeof where, " on GPU %d", w->device);
+        cr_log_info(&run->log,
+                    "frame %d of %ld done%s in %.2f s: %.3g rays/s, %.1f steps/ray, "
+                    "horizon %lld, disc %lld, sphere %lld, sky %lld, error %lld, limit %lld",
+                    k, run->cli.frames, where, st->seconds,
+                    (double)st->rays / (st->seconds > 0 ? st->seconds : 1e-9),
+                    (double)st->steps / (double)rays, st->counts[CR_OUT_HORIZON],
+                    st->counts[CR_OUT_DISC], st->counts[CR_OUT_SPHERE], st->counts[CR_OUT_SKY],
+                    st->counts[CR_OUT_ERROR], st->counts[CR_OUT_LIMIT]);
+    }
+    pthread_mutex_unlock(&run->lock);
+    return rc;
+}
+
 /* Render and write one frame. Returns 0, or -1 with err set (err->msg is
  * "interrupted" after Ctrl-C); a frame that fails leaves none of its files,
  * and info.txt lists only the frames whose files are all written. */
 static int cr_do_frame(cr_worker *w, int k, cr_pixel *px, cr_sphere *spheres, cr_err *err)
 {
+    static const char types[] = "crd";
     cr_run *run = w->run;
     cr_frame f;
     cr_frame_stats st;
     double t0;
     char written[4] = "";
-    int n_written = 0, rc;
+    int n_written = 0, rc, i;
     if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
                        (int)run->cli.height, &run->ts, &f, spheres, err))
         return -1;
+    pthread_mutex_lock(&run->lock);
     w->frame = k;
-    w->t_frame = t0 = cr_now();
-    if (w->device < 0) {
-        if (cr_cpu_render(&f, run->threads, px, cr_progress, w, &cr_cancel_flag, err))
-            return -1;
-    } else {
-        if (cr_gpu_render_ex(w->device, &f, px, cr_progress, w, &cr_cancel_flag, err))
-            return -1;
+    w->frac = 0.0;
+    pthread_mutex_unlock(&run->lock);
+    t0 = cr_now();
+    if (w->device < 0)
+        rc = cr_cpu_render(&f, run->threads, px, cr_progress, w, &run->intr.count, err);
+    else
+        rc = cr_gpu_render_ex(w->device, &f, px, cr_progress, cr_cancelled, w, err);
+    if (rc) {
+        pthread_mutex_lock(&run->lock);
+        w->frac = 0.0;
+        pthread_mutex_unlock(&run->lock);
+        return -1;
     }
     cr_frame_stats_compute(px, (long long)f.width * f.height, cr_now() - t0, &st);
     st.frame = k;
-    if (cr_has_type(run, 'c')) {
-        if (cr_output_color_png(run->cli.output_dir, k, px, f.width, f.height, err))
+    cr_interrupt_frame_begin(&run->intr, w->slot, k);
+    for (i = 0; types[i]; i++) {
+        if (!cr_has_type(run, types[i]))
+            continue;
+        if (cr_write_frame_file(w, types[i], k, px, f.width, f.height, err))
             goto fail;
-        written[n_written++] = 'c';
+        written[n_written++] = types[i];
     }
-    if (cr_has_type(run, 'r')) {
-        if (cr_output_redshift_png(run->cli.output_dir, k, px, f.width, f.height, err))
-            goto fail;
-        written[n_written++] = 'r';
-    }
-    if (cr_has_type(run, 'd')) {
-        if (cr_output_csv(run->cli.output_dir, k, px, f.width, f.height, err))
-            goto fail;
-        written[n_written++] = 'd';
-    }
-
-    pthread_mutex_lock(&run->lock);
-    run->stats[k] = st;
-    run->done[k] = 1;
-    run->n_done++;
-    rc = cr_write_info(run, err);
-    if (rc) {
-        run->done[k] = 0;
-        run->n_done--;
-    } else {
-        long long rays = st.rays > 0 ? st.rays : 1;
-        char where[32] = "";
-        if (w->device >= 0)
-            snprintf(where, sizeof where, " on GPU %d", w->device);
-        cr_log_info(&run->log,
-                    "frame %d/%ld done%s in %.2f s: %.3g rays/s, %.1f steps/ray, "
-                    "horizon %lld, disc %lld, sphere %lld, sky %lld, error %lld, limit %lld",
-                    k + 1, run->cli.frames, where, st.seconds,
-                    (double)st.rays / (st.seconds > 0 ? st.seconds : 1e-9),
-                    (double)st.steps / (double)rays, st.counts[CR_OUT_HORIZON],
-                    st.counts[CR_OUT_DISC], st.counts[CR_OUT_SPHERE], st.counts[CR_OUT_SKY],
-                    st.counts[CR_OUT_ERROR], st.counts[CR_OUT_LIMIT]);
-    }
-    pthread_mutex_unlock(&run->lock);
-    if (rc == 0)
+    if (cr_finish_frame(w, k, &st, err) == 0)
         return 0;
 fail:
     cr_remove_frame_files(run, k, written);
+    cr_interrupt_frame_end(&run->intr, w->slot);
+    pthread_mutex_lock(&run->lock);
+    w->frac = 0.0;
+    pthread_mutex_unlock(&run->lock);
     return -1;
 }
 
@@ -222,7 +299,7 @@ static void *cr_worker_main(void *arg)
         pthread_mutex_lock(&run->lock);
         stop = run->failed;
         pthread_mutex_unlock(&run->lock);
-        if (stop || cr_cancel_flag || k >= run->cli.frames)
+        if (stop || cr_interrupt_requested(&run->intr) || k >= run->cli.frames)
             break;
         if (cr_do_frame(w, k, px, spheres, &err))
             goto fail;
@@ -252,13 +329,14 @@ static int cr_confirm(cr_run *run)
     fflush(stdout);
     if (!fgets(line, sizeof line, stdin))
         return 0;
-    return line[0] == '\n' || line[0] == 'y' || line[0] == 'Y';
+    return cr_cli_answer_yes(line);
 }
 
 static void cr_log_scene(cr_run *run)
 {
     const cr_scene *s = &run->scene;
     const double deg = 180.0 / CR_PI;
+    char range[48] = "";
     cr_log_info(&run->log, "scene %s: M = %g, a = %g, Q = %g%s", s->path, s->m.a, s->a.a, s->q.a,
                 (s->m.a != s->m.b || s->a.a != s->a.b || s->q.a != s->q.b) ? " (animated)" : "");
     if (s->obs_at_infinity)
@@ -281,9 +359,11 @@ static void cr_log_scene(cr_run *run)
     else if (s->has_sky)
         cr_log_info(&run->log, "sky map %s (%dx%d), boundary %g", s->sky_image, s->sky_width,
                     s->sky_height, s->sky_boundary.a);
+    if (run->cli.frames > 1)
+        snprintf(range, sizeof range, "s (0 to %ld)", run->cli.frames - 1);
     cr_log_info(&run->log, "%ld frame%s of %ldx%ld pixels, outputs '%s' into %s, backend %s",
-                run->cli.frames, run->cli.frames > 1 ? "s" : "", run->cli.width,
-                run->cli.height, run->cli.output_type, run->cli.output_dir, run->info.backend);
+                run->cli.frames, range, run->cli.width, run->cli.height, run->cli.output_type,
+                run->cli.output_dir, run->info.backend);
     cr_log_detail(&run->log, "raytracer: integrator %s, tolerance %g (mino), step multiplier %g "
                              "(rk4), horizon epsilon %g, max steps %ld, max turns %g; %d CPU "
                              "threads",
@@ -332,208 +412,310 @@ static int cr_prog_is_cpu(const char *argv0)
     return strcmp(base, "curray_cpu") == 0;
 }
 
-int main(int argc, char **argv)
+/* Parse the command line and answer -h, --version and -i. Returns -1 when
+ * the program should end now with *rc, else 0 (a render follows). */
+static int cr_command_line(cr_run *run, int *rc)
 {
-    cr_run run;
     cr_err err;
-    cr_worker workers[CR_MAX_GPUS];
-    int n_workers = 0, k, rc = CR_EXIT_ERROR, log_open = 0;
-    int devices[CR_MAX_GPUS];
-    struct sigaction sa;
-    char backend_name[64];
-
-    memset(&run, 0, sizeof run);
     err.msg[0] = '\0';
-    /* A reader that goes away (curray ... | head) must not kill a render
-     * half-way: console writes then just fail. */
-    signal(SIGPIPE, SIG_IGN);
-    if (cr_cli_parse(argc, argv, cr_prog_is_cpu(argv[0]), &run.cli, &err)) {
+    *rc = CR_EXIT_OK;
+    if (cr_cli_parse(run->argc, run->argv, cr_prog_is_cpu(run->argv[0]), &run->cli, &err)) {
         fprintf(stderr, "curray: %s\n", err.msg);
-        return CR_EXIT_USAGE;
+        *rc = CR_EXIT_USAGE;
+        return -1;
     }
-    if (run.cli.help) {
-        cr_cli_usage(argv[0], stdout);
-        return CR_EXIT_OK;
+    if (run->cli.help) {
+        cr_cli_usage(run->argv[0], stdout);
+        return -1;
     }
-    if (run.cli.version) {
+    if (run->cli.version) {
         printf("curray %s\n", CURRAY_VERSION);
-        return CR_EXIT_OK;
+        return -1;
     }
-    if (run.cli.info) {
+    if (run->cli.info) {
         cr_gpu_print_info(stdout);
-        if (!run.cli.scene_path) {
+        if (!run->cli.scene_path) {
             printf("\nNo scene file specified, no raytracing will be performed.\n");
-            return CR_EXIT_OK;
+            return -1;
         }
     }
-    if (cr_cli_check_render(&run.cli, &err)) {
+    if (cr_cli_check_render(&run->cli, &err)) {
         fprintf(stderr, "curray: %s\n", err.msg);
-        return CR_EXIT_USAGE;
+        *rc = CR_EXIT_USAGE;
+        return -1;
     }
+    return 0;
+}
 
-    /* system configuration: -c, else config.yml when present, else defaults */
-    cr_sysconfig_defaults(&run.cfg);
-    if (run.cli.config_path || access("config.yml", F_OK) == 0) {
-        if (!run.cli.config_path)
-            run.cli.config_path = "config.yml";
-        if (cr_sysconfig_load(run.cli.config_path, &run.cfg, &err)) {
-            fprintf(stderr, "curray: configuration file %s\n", err.msg);
-            return CR_EXIT_ERROR;
-        }
+/* The system configuration: -c, else config.yml when present, else the
+ * defaults; then the command line's overrides, the thread count in use and
+ * the trace settings. */
+static int cr_configure(cr_run *run, cr_err *err)
+{
+    cr_sysconfig_defaults(&run->cfg);
+    if (run->cli.config_path || access("config.yml", F_OK) == 0) {
+        if (!run->cli.config_path)
+            run->cli.config_path = "config.yml";
+        if (cr_sysconfig_load(run->cli.config_path, &run->cfg, err))
+            return -1;
     }
-    if (run.cli.verbose >= 0)
-        run.cfg.verbose = run.cli.verbose;
-    if (run.cli.quiet >= 0)
-        run.cfg.quiet = run.cli.quiet;
-    if (run.cli.auto_accept >= 0)
-        run.cfg.auto_accept = run.cli.auto_accept;
-    run.threads = run.cli.threads > 0 ? (int)run.cli.threads
-                                      : (run.cfg.cpu_threads > 0 ? run.cfg.cpu_threads
-                                                                 : cr_cpu_cores());
-    run.ts.integrator = run.cfg.integrator;
-    run.ts.tolerance = run.cfg.tolerance;
-    run.ts.step_multiplier = run.cfg.step_multiplier;
-    run.ts.horizon_epsilon = run.cfg.horizon_epsilon;
-    run.ts.max_steps = run.cfg.max_steps;
-    run.ts.max_turns = run.cfg.max_turns;
+    if (run->cli.verbose >= 0)
+        run->cfg.verbose = run->cli.verbose;
+    if (run->cli.quiet >= 0)
+        run->cfg.quiet = run->cli.quiet;
+    if (run->cli.auto_accept >= 0)
+        run->cfg.auto_accept = run->cli.auto_accept;
+    run->threads = run->cli.threads > 0 ? (int)run->cli.threads
+                                        : (run->cfg.cpu_threads > 0 ? run->cfg.cpu_threads
+                                                                    : cr_cpu_cores());
+    if (run->threads > CR_SYSCONFIG_MAX_THREADS)
+        run->threads = CR_SYSCONFIG_MAX_THREADS; /* all cores of a machine with more */
+    run->ts.integrator = run->cfg.integrator;
+    run->ts.tolerance = run->cfg.tolerance;
+    run->ts.step_multiplier = run->cfg.step_multiplier;
+    run->ts.horizon_epsilon = run->cfg.horizon_epsilon;
+    run->ts.max_steps = run->cfg.max_steps;
+    run->ts.max_turns = run->cfg.max_turns;
+    return 0;
+}
 
-    if (cr_log_open(&run.log, "log", run.cfg.keep_log, run.cfg.verbose, run.cfg.quiet, &err))
-        fprintf(stderr, "curray: warning: %s (logging to the console only)\n", err.msg);
-    log_open = 1;
-    cr_log_detail(&run.log, "curray %s, configuration %s", CURRAY_VERSION,
-                  run.cli.config_path ? run.cli.config_path : "(built-in defaults)");
-
-    /* backend */
-    if (run.cli.backend != CR_BACKEND_CPU) {
-        cr_err gerr;
-        int n = cr_gpu_count(&gerr), i;
-        for (i = 0; i < n && i < CR_MAX_GPUS; i++)
-            if (run.cfg.gpu_enabled[i])
-                devices[n_workers++] = i;
-        if (n_workers > 0) {
-            run.use_cuda = 1;
-        } else if (run.cli.backend == CR_BACKEND_CUDA) {
-            cr_log_error(&run.log, "curray: --backend cuda: %s",
-                         n == 0 ? gerr.msg : "no enabled GPU (see gpus: in the configuration)");
-            goto done;
+/* CUDA when asked for or (auto) when an enabled GPU is usable, else the CPU
+ * (cr_gpu_select). Fills devices, n_workers, use_cuda and backend_name. */
+static int cr_choose_backend(cr_run *run)
+{
+    cr_gpu_device table[CR_MAX_GPUS];
+    cr_err gerr;
+    int n;
+    run->use_cuda = 0;
+    run->n_workers = 1;
+    if (run->cli.backend != CR_BACKEND_CPU) {
+        n = cr_gpu_devices(table, CR_MAX_GPUS, &gerr);
+        if (n > CR_MAX_GPUS)
+            n = CR_MAX_GPUS; /* gpus: numbers only go this far */
+        if (n > 0)
+            n = cr_gpu_select(table, n, run->cfg.gpu_enabled, CR_MAX_GPUS, run->devices,
+                              CR_MAX_GPUS, &gerr);
+        if (n > 0) {
+            run->use_cuda = 1;
+            run->n_workers = n;
+            if (gerr.msg[0])
+                cr_log_info(&run->log, "curray: warning: %s", gerr.msg);
+        } else if (run->cli.backend == CR_BACKEND_CUDA) {
+            cr_log_error(&run->log, "curray: --backend cuda: %s", gerr.msg);
+            return -1;
         } else {
-            cr_log_detail(&run.log, "using the CPU: %s",
-                          n == 0 ? gerr.msg : "no GPU enabled in the configuration");
+            cr_log_detail(&run->log, "using the CPU: %s", gerr.msg);
         }
     }
-    if (run.use_cuda)
-        snprintf(backend_name, sizeof backend_name, "cuda (%d GPU%s)", n_workers,
-                 n_workers > 1 ? "s" : "");
+    if (run->use_cuda)
+        snprintf(run->backend_name, sizeof run->backend_name, "cuda (%d GPU%s)", run->n_workers,
+                 run->n_workers > 1 ? "s" : "");
     else
-        snprintf(backend_name, sizeof backend_name, "cpu (%d thread%s)", run.threads,
-                 run.threads > 1 ? "s" : "");
+        snprintf(run->backend_name, sizeof run->backend_name, "cpu (%d thread%s)", run->threads,
+                 run->threads > 1 ? "s" : "");
+    return 0;
+}
 
-    if (cr_check_memory(&run, run.use_cuda ? n_workers : 1, &err)) {
-        cr_log_error(&run.log, "curray: %s", err.msg);
-        goto done;
-    }
-    if (cr_scene_load(run.cli.scene_path, &run.scene, &err)) {
-        cr_log_error(&run.log, "curray: scene file %s", err.msg);
-        goto done;
-    }
-    /* every frame must be possible before any is rendered */
-    {
-        cr_sphere *tmp = malloc(sizeof *tmp * (size_t)(run.scene.n_spheres + 1));
-        cr_frame f;
-        if (!tmp) {
-            cr_log_error(&run.log, "curray: out of memory");
-            goto done;
-        }
-        for (k = 0; k < run.cli.frames; k++)
-            if (cr_scene_frame(&run.scene, k, (int)run.cli.frames, (int)run.cli.width,
-                               (int)run.cli.height, &run.ts, &f, tmp, &err))
-                break;
-        free(tmp);
-        if (k < run.cli.frames) {
-            cr_log_error(&run.log, "curray: scene file %s", err.msg);
-            goto done;
-        }
-    }
+/* Every frame must be possible before any is rendered. */
+static int cr_check_frames(cr_run *run, cr_err *err)
+{
+    cr_sphere *tmp = malloc(sizeof *tmp * (size_t)(run->scene.n_spheres + 1));
+    cr_frame f;
+    int k, rc = 0;
+    if (!tmp)
+        return cr_err_set(err, "out of memory");
+    for (k = 0; k < run->cli.frames && rc == 0; k++)
+        rc = cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                            (int)run->cli.height, &run->ts, &f, tmp, err);
+    free(tmp);
+    return rc;
+}
 
-    run.info.scene_path = run.cli.scene_path;
-    run.info.config_path = run.cli.config_path;
-    run.info.backend = backend_name;
-    run.info.width = (int)run.cli.width;
-    run.info.height = (int)run.cli.height;
-    run.info.frames = (int)run.cli.frames;
-    run.info.output_types = run.cli.output_type;
-    run.info.version = CURRAY_VERSION;
-    cr_log_scene(&run);
-
-    if (!cr_confirm(&run)) {
-        cr_log_info(&run.log, "not rendering (declined)");
-        rc = CR_EXIT_OK;
-        goto done;
+/* The run's settings as text, for a crash report: the command line, the
+ * folder it ran in, and the settings in use. malloc'ed; NULL when out of
+ * memory. */
+static char *cr_settings_text(const cr_run *run)
+{
+    char *text = NULL, cwd[4096];
+    size_t len = 0;
+    FILE *fp = open_memstream(&text, &len);
+    int k;
+    if (!fp)
+        return NULL;
+    fputs("command line:", fp);
+    for (k = 0; k < run->argc; k++)
+        fprintf(fp, " %s", run->argv[k]);
+    fprintf(fp, "\nworking folder: %s\n", getcwd(cwd, sizeof cwd) ? cwd : "(unknown)");
+    fprintf(fp, "scene: %s\nconfiguration: %s\n", run->cli.scene_path,
+            run->cli.config_path ? run->cli.config_path : "(built-in defaults)");
+    fprintf(fp, "output: %s, types '%s'; %ld frame%s of %ldx%ld pixels\n", run->cli.output_dir,
+            run->cli.output_type, run->cli.frames, run->cli.frames > 1 ? "s" : "",
+            run->cli.width, run->cli.height);
+    fprintf(fp, "backend: %s", run->backend_name);
+    for (k = 0; run->use_cuda && k < run->n_workers; k++)
+        fprintf(fp, "%s%d", k ? ", " : "; GPUs ", run->devices[k]);
+    fprintf(fp, "\nraytracer: integrator %s, tolerance %g, step multiplier %g, horizon epsilon "
+                "%g, max steps %ld, max turns %g\n",
+            cr_integrator_name(run->ts.integrator), run->ts.tolerance, run->ts.step_multiplier,
+            run->ts.horizon_epsilon, run->ts.max_steps, run->ts.max_turns);
+    if (fclose(fp) != 0) {
+        free(text);
+        return NULL;
     }
-    if (cr_mkdir_p(run.cli.output_dir, &err)) {
-        cr_log_error(&run.log, "curray: %s", err.msg);
-        goto done;
-    }
+    return text;
+}
 
-    run.stats = calloc((size_t)run.cli.frames, sizeof *run.stats);
-    run.done = calloc((size_t)run.cli.frames, 1);
-    if (!run.stats || !run.done) {
-        cr_log_error(&run.log, "curray: out of memory for %ld frames", run.cli.frames);
-        goto done;
-    }
-    pthread_mutex_init(&run.lock, NULL);
-    atomic_init(&run.next_frame, 0);
+/* Create the output folder, start the log file in <output>/log and install
+ * the crash handler. */
+static int cr_prepare_output(cr_run *run, cr_err *err)
+{
+    char log_dir[4096];
+    cr_err lerr;
+    if (cr_mkdir_p(run->cli.output_dir, err))
+        return -1;
+    if (cr_path_join(log_dir, sizeof log_dir, run->cli.output_dir, "log") != 0)
+        log_dir[0] = '\0';
+    if (cr_log_attach(&run->log, log_dir, run->cfg.keep_log, &lerr))
+        cr_log_error(&run->log, "curray: warning: %s (logging to the console only)", lerr.msg);
+    run->settings = cr_settings_text(run);
+    if (cr_crash_install(log_dir, CURRAY_VERSION, run->settings ? run->settings : "", &lerr))
+        cr_log_error(&run->log, "curray: warning: %s (no crash report)", lerr.msg);
+    return 0;
+}
 
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = cr_on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-
-    run.t_start = cr_now();
-    if (!run.use_cuda)
-        n_workers = 1;
-    for (k = 0; k < n_workers; k++) {
-        workers[k].run = &run;
-        workers[k].device = run.use_cuda ? devices[k] : -1;
-        workers[k].frame = 0;
+/* Render every frame with the chosen workers; Ctrl-C handling is installed
+ * for the time of the render. */
+static int cr_render_frames(cr_run *run, cr_err *err)
+{
+    int k, started = 0;
+    run->stats = calloc((size_t)run->cli.frames, sizeof *run->stats);
+    run->done = calloc((size_t)run->cli.frames, 1);
+    if (!run->stats || !run->done)
+        return cr_err_set(err, "out of memory for %ld frames", run->cli.frames);
+    if (cr_interrupt_install(&run->intr, run->cli.output_dir, &run->log, err))
+        return -1;
+    pthread_mutex_init(&run->lock, NULL);
+    atomic_init(&run->next_frame, 0);
+    run->t_start = cr_now();
+    for (k = 0; k < run->n_workers; k++) {
+        run->workers[k].run = run;
+        run->workers[k].slot = k;
+        run->workers[k].device = run->use_cuda ? run->devices[k] : -1;
+        run->workers[k].frame = 0;
+        run->workers[k].frac = 0.0;
     }
-    if (n_workers == 1) {
-        cr_worker_main(&workers[0]);
+    if (run->n_workers == 1) {
+        cr_worker_main(&run->workers[0]);
     } else {
-        int started = 0;
-        for (k = 0; k < n_workers; k++) {
-            if (pthread_create(&workers[k].tid, NULL, cr_worker_main, &workers[k]) != 0)
+        for (k = 0; k < run->n_workers; k++) {
+            if (pthread_create(&run->workers[k].tid, NULL, cr_worker_main, &run->workers[k]))
                 break;
             started++;
         }
         if (started == 0)
-            cr_worker_main(&workers[0]);
+            cr_worker_main(&run->workers[0]);
         for (k = 0; k < started; k++)
-            pthread_join(workers[k].tid, NULL);
+            pthread_join(run->workers[k].tid, NULL);
     }
-    pthread_mutex_destroy(&run.lock);
+    cr_interrupt_remove(&run->intr);
+    pthread_mutex_destroy(&run->lock);
+    return 0;
+}
 
-    if (cr_cancel_flag) {
-        cr_log_error(&run.log, "curray: interrupted; %d of %ld frames finished and kept in %s",
-                     run.n_done, run.cli.frames, run.cli.output_dir);
-        rc = CR_EXIT_INTERRUPTED;
-    } else if (run.failed) {
-        cr_log_error(&run.log, "curray: %s", run.fail_err.msg);
-        if (run.n_done)
-            cr_log_error(&run.log, "curray: %d of %ld frames were finished and kept in %s",
-                         run.n_done, run.cli.frames, run.cli.output_dir);
-    } else {
-        cr_log_info(&run.log, "done: %ld frame%s in %.2f s, outputs in %s", run.cli.frames,
-                    run.cli.frames > 1 ? "s" : "", cr_now() - run.t_start, run.cli.output_dir);
-        rc = CR_EXIT_OK;
+/* The last line of the run, and its exit status. */
+static int cr_report(cr_run *run)
+{
+    if (atomic_load(&run->intr.count) > 0) {
+        cr_log_error(&run->log, "curray: interrupted; %d of %ld frames finished and kept in %s",
+                     run->n_done, run->cli.frames, run->cli.output_dir);
+        return CR_EXIT_INTERRUPTED;
     }
+    if (run->failed) {
+        cr_log_error(&run->log, "curray: %s", run->fail_err.msg);
+        if (run->n_done)
+            cr_log_error(&run->log, "curray: %d of %ld frames were finished and kept in %s",
+                         run->n_done, run->cli.frames, run->cli.output_dir);
+        return CR_EXIT_ERROR;
+    }
+    cr_log_info(&run->log, "done: %ld frame%s in %.2f s, outputs in %s", run->cli.frames,
+                run->cli.frames > 1 ? "s" : "", cr_now() - run->t_start, run->cli.output_dir);
+    return CR_EXIT_OK;
+}
 
-done:
+/* Everything up to the render: configuration, backend, scene, frames,
+ * summary, prompt, output folder. Returns -1 with *rc when the run ends
+ * before rendering. */
+static int cr_prepare(cr_run *run, int *rc)
+{
+    cr_err err;
+    err.msg[0] = '\0';
+    *rc = CR_EXIT_ERROR;
+    if (cr_configure(run, &err)) {
+        fprintf(stderr, "curray: configuration file %s\n", err.msg);
+        return -1;
+    }
+    /* console now, the file once the output folder exists (log.h) */
+    cr_log_hold(&run->log, run->cfg.verbose, run->cfg.quiet);
+    run->log_open = 1;
+    cr_log_detail(&run->log, "curray %s, configuration %s", CURRAY_VERSION,
+                  run->cli.config_path ? run->cli.config_path : "(built-in defaults)");
+    if (cr_choose_backend(run))
+        return -1;
+    if (cr_check_memory(run, run->n_workers, &err)) {
+        cr_log_error(&run->log, "curray: %s", err.msg);
+        return -1;
+    }
+    if (cr_scene_load(run->cli.scene_path, &run->scene, &err) || cr_check_frames(run, &err)) {
+        cr_log_error(&run->log, "curray: scene file %s", err.msg);
+        return -1;
+    }
+    run->info.scene_path = run->cli.scene_path;
+    run->info.config_path = run->cli.config_path;
+    run->info.backend = run->backend_name;
+    run->info.width = (int)run->cli.width;
+    run->info.height = (int)run->cli.height;
+    run->info.frames = (int)run->cli.frames;
+    run->info.output_types = run->cli.output_type;
+    run->info.version = CURRAY_VERSION;
+    cr_log_scene(run);
+    if (!cr_confirm(run)) {
+        cr_log_info(&run->log, "not rendering (declined)");
+        *rc = CR_EXIT_OK;
+        return -1;
+    }
+    if (cr_prepare_output(run, &err)) {
+        cr_log_error(&run->log, "curray: %s", err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    cr_run run;
+    cr_err err;
+    int rc;
+
+    memset(&run, 0, sizeof run);
+    run.argc = argc;
+    run.argv = argv;
+    /* A reader that goes away (curray ... | head) must not kill a render
+     * half-way: console writes then just fail. */
+    signal(SIGPIPE, SIG_IGN);
+    if (cr_command_line(&run, &rc) == 0 && cr_prepare(&run, &rc) == 0) {
+        if (cr_render_frames(&run, &err)) {
+            cr_log_error(&run.log, "curray: %s", err.msg);
+            rc = CR_EXIT_ERROR;
+        } else {
+            rc = cr_report(&run);
+        }
+    }
+    cr_crash_uninstall();
+    free(run.settings);
     free(run.stats);
     free(run.done);
     cr_scene_free(&run.scene);
-    if (log_open)
+    if (run.log_open)
         cr_log_close(&run.log);
     return rc;
 }

@@ -1,24 +1,27 @@
 #include "render_cpu.h"
 
 #include <pthread.h>
-#include <stdatomic.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "../core/trace.h"
 
-#define CR_MAX_THREADS 1024
-
 typedef struct cr_cpu_job {
     const cr_frame *f;
     cr_pixel *out;
     atomic_int next_row;
     atomic_int rows_done;
-    volatile sig_atomic_t *cancel;
+    atomic_int *cancel;   /* NULL: cannot be cancelled */
     pthread_mutex_t lock; /* with `finished`: wakes the caller when the last row is done */
     pthread_cond_t finished;
 } cr_cpu_job;
+
+static int cr_cpu_cancelled(const cr_cpu_job *job)
+{
+    return job->cancel && atomic_load_explicit(job->cancel, memory_order_relaxed) != 0;
+}
 
 static void *cr_cpu_worker(void *arg)
 {
@@ -26,16 +29,22 @@ static void *cr_cpu_worker(void *arg)
     const cr_frame *f = job->f;
     for (;;) {
         int j = atomic_fetch_add(&job->next_row, 1), i;
-        if (j >= f->height || (job->cancel && *job->cancel))
+        if (j >= f->height)
             break;
-        for (i = 0; i < f->width; i++)
+        /* per pixel, so that a long row near the hole stops within a pixel */
+        for (i = 0; i < f->width; i++) {
+            if (cr_cpu_cancelled(job))
+                goto wake;
             job->out[(size_t)j * f->width + i] = cr_trace_pixel(f, i, j);
-        if (atomic_fetch_add(&job->rows_done, 1) + 1 == f->height) {
-            pthread_mutex_lock(&job->lock);
-            pthread_cond_signal(&job->finished);
-            pthread_mutex_unlock(&job->lock);
         }
+        if (atomic_fetch_add(&job->rows_done, 1) + 1 == f->height)
+            goto wake;
     }
+    return NULL;
+wake: /* the last row is done, or the render is cancelled */
+    pthread_mutex_lock(&job->lock);
+    pthread_cond_signal(&job->finished);
+    pthread_mutex_unlock(&job->lock);
     return NULL;
 }
 
@@ -46,18 +55,25 @@ int cr_cpu_cores(void)
 }
 
 int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn progress,
-                  void *ctx, volatile sig_atomic_t *cancel, cr_err *err)
+                  void *ctx, atomic_int *cancel, cr_err *err)
 {
-    pthread_t tid[CR_MAX_THREADS];
+    pthread_t *tid;
     cr_cpu_job job;
     int t, started = 0, rc = 0;
 
-    if (threads <= 0)
+    if (threads > CR_SYSCONFIG_MAX_THREADS)
+        return cr_err_set(err, "%d CPU threads asked for; curray runs at most %d", threads,
+                          CR_SYSCONFIG_MAX_THREADS);
+    if (threads <= 0) {
         threads = cr_cpu_cores();
-    if (threads > CR_MAX_THREADS)
-        threads = CR_MAX_THREADS;
+        if (threads > CR_SYSCONFIG_MAX_THREADS)
+            threads = CR_SYSCONFIG_MAX_THREADS;
+    }
     if (threads > f->height)
         threads = f->height > 0 ? f->height : 1;
+    tid = malloc(sizeof *tid * (size_t)threads);
+    if (!tid)
+        return cr_err_set(err, "out of memory for %d worker threads", threads);
     job.f = f;
     job.out = out;
     job.cancel = cancel;
@@ -72,18 +88,17 @@ int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn 
             if (started == 0) {
                 pthread_cond_destroy(&job.finished);
                 pthread_mutex_destroy(&job.lock);
+                free(tid);
                 return cr_err_set(err, "cannot start a worker thread: %s", strerror(e));
             }
             break; /* render with the threads we have */
         }
         started++;
     }
-    /* wake every 0.25 s for progress and cancel, or at once when done */
+    /* wake every 0.25 s for progress, or at once when done or cancelled */
     pthread_mutex_lock(&job.lock);
-    while (atomic_load(&job.rows_done) < f->height) {
+    while (atomic_load(&job.rows_done) < f->height && !cr_cpu_cancelled(&job)) {
         struct timespec ts;
-        if (cancel && *cancel)
-            break;
         if (progress) {
             pthread_mutex_unlock(&job.lock);
             progress(ctx, atomic_load(&job.rows_done), f->height);
@@ -95,15 +110,16 @@ int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn 
             ts.tv_sec++;
             ts.tv_nsec -= 1000000000L;
         }
-        if (atomic_load(&job.rows_done) < f->height)
+        if (atomic_load(&job.rows_done) < f->height && !cr_cpu_cancelled(&job))
             pthread_cond_timedwait(&job.finished, &job.lock, &ts);
     }
     pthread_mutex_unlock(&job.lock);
     for (t = 0; t < started; t++)
         pthread_join(tid[t], NULL);
+    free(tid);
     pthread_cond_destroy(&job.finished);
     pthread_mutex_destroy(&job.lock);
-    if (cancel && *cancel)
+    if (atomic_load(&job.rows_done) < f->height)
         rc = cr_err_set(err, "interrupted");
     else if (progress)
         progress(ctx, f->height, f->height);

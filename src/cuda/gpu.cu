@@ -16,6 +16,7 @@
 
 #include <cuda_runtime.h>
 #include <stdarg.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "../core/trace.h"
@@ -184,6 +185,27 @@ extern "C" int cr_gpu_count(cr_err *err)
     return usable;
 }
 
+extern "C" int cr_gpu_devices(cr_gpu_device *table, int max, cr_err *err)
+{
+    int n = 0, d;
+    cudaError_t e = cudaGetDeviceCount(&n);
+    if (e != cudaSuccess) {
+        cr_gpu_no_device(e, err);
+        return 0;
+    }
+    if (n <= 0) {
+        cr_err_set(err, "no CUDA device found");
+        return 0;
+    }
+    for (d = 0; d < n && d < max; d++) {
+        cr_err why;
+        why.msg[0] = '\0';
+        table[d].usable = cr_gpu_check_device(d, &why);
+        snprintf(table[d].why, sizeof table[d].why, "%s", table[d].usable ? "" : why.msg);
+    }
+    return n;
+}
+
 extern "C" int cr_gpu_usable(int device, cr_err *err)
 {
     int n = 0;
@@ -340,8 +362,8 @@ extern "C" int cr_gpu_render(int device, const cr_frame *f, cr_pixel *out, cr_er
 }
 
 extern "C" int cr_gpu_render_ex(int device, const cr_frame *f, cr_pixel *out,
-                                cr_gpu_progress_fn progress, void *ctx,
-                                volatile sig_atomic_t *cancel, cr_err *err)
+                                cr_gpu_progress_fn progress, cr_gpu_cancel_fn cancelled,
+                                void *ctx, cr_err *err)
 {
     cr_frame df;
     cr_frame *d_frame = NULL;
@@ -416,7 +438,7 @@ extern "C" int cr_gpu_render_ex(int device, const cr_frame *f, cr_pixel *out,
         CR_CUDA_CHECK_GOTO(cudaDeviceSynchronize());
         if (progress)
             progress(ctx, row_end, f->height);
-        if (cancel && *cancel) {
+        if (cancelled && cancelled(ctx)) {
             cr_err_set(err, "interrupted");
             goto fail;
         }

@@ -15,6 +15,14 @@ int cr_gpu_count(cr_err *err)
     return 0;
 }
 
+int cr_gpu_devices(cr_gpu_device *table, int max, cr_err *err)
+{
+    (void)table;
+    (void)max;
+    cr_err_set(err, CR_GPU_NO_CUDA);
+    return 0;
+}
+
 int cr_gpu_usable(int device, cr_err *err)
 {
     (void)device;
@@ -35,13 +43,13 @@ int cr_gpu_render(int device, const cr_frame *f, cr_pixel *out, cr_err *err)
 }
 
 int cr_gpu_render_ex(int device, const cr_frame *f, cr_pixel *out, cr_gpu_progress_fn progress,
-                     void *ctx, volatile sig_atomic_t *cancel, cr_err *err)
+                     cr_gpu_cancel_fn cancelled, void *ctx, cr_err *err)
 {
     (void)device;
     (void)f;
     (void)out;
     (void)progress;
+    (void)cancelled;
     (void)ctx;
-    (void)cancel;
     return cr_err_set(err, CR_GPU_NO_CUDA);
 }

@@ -8,9 +8,9 @@
 #
 # Prints one line per case (ok / FAIL / skip with its reason) and a last line
 # "N passed, N failed, N skipped"; exits 1 when any case failed. Runs in a
-# temporary folder (curray writes log/ and reads config.yml in the current
-# folder). Renders are tiny (8x8); the whole script takes a few seconds plus
-# the interrupted render.
+# temporary folder (curray reads config.yml in the current folder). Renders
+# are tiny (8x8) but for the Ctrl-C and crash cases; the whole script takes
+# about 10 s.
 set -u
 
 CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
@@ -100,6 +100,12 @@ rm -rf o
 run -s good.yml -o o -x 8 -y 8 -t icrd -a true
 if [ "$RC" = 0 ] && [ -f o/c_0.png ] && [ -f o/r_0.png ] && [ -f o/d_0.csv ] && [ -f o/info.txt ] &&
     [ -z "$(temps_in o)" ]; then ok "good scene renders"; else bad "good scene renders" "rc $RC"; fi
+# the log goes to <output>/log/, never to log/ in the current folder
+if [ "$RC" = 0 ] && grep -q 'frame 0 of 1 done' o/log/curray.log && [ ! -e log ]; then
+    ok "log in the output folder (o/log/curray.log)"
+else
+    bad "log in the output folder (o/log/curray.log)" "rc $RC; $(ls -d log o/log 2>&1 | tr '\n' ' ')"
+fi
 
 # --- missing or unreadable files -------------------------------------------
 expect "missing scene file" 1 "scene file nope.yml: cannot open: No such file or directory" \
@@ -202,6 +208,11 @@ scene "duplicate key" 1 "duplicate key 'r' (first given at line 2" \
     "$MET"$'observer: {r: 20, r: 30, theta: 90, phi: 0, hfov: 60}\n'
 printf 'cpu: {threads: 4}\nlog: {verbos: true}\n' >c.yml
 expect "unknown configuration key" 1 "c.yml:2:7: unknown key 'verbos' in log" \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+expect "--threads above the limit" 2 "--threads: expected a number of threads from 1 to 4096, got '4097'" \
+    -s good.yml -o o -x 8 -y 8 --threads 4097
+printf 'cpu: {threads: 4097}\n' >c.yml
+expect "configuration: threads above the limit" 1 'cpu.threads: expected a number of threads from 1 to 4096, got "4097"' \
     -s good.yml -c c.yml -o o -x 8 -y 8
 printf 'cpu: {threads: many}\n' >c.yml
 expect "configuration: word for a number" 1 'c.yml:1:16: cpu.threads: expected a number of threads from 1 to 4096, got "many"' \
@@ -371,12 +382,13 @@ else
     skip "read-only output folder" "$PERM_SKIP"
     skip "output folder in a read-only folder" "$PERM_SKIP"
 fi
-rm -rf log
-touch log
+rm -rf o2
+mkdir o2
+touch o2/log
 run -s good.yml -o o2 -x 8 -y 8 -a true
-if [ "$RC" = 0 ] && [[ "$OUT" == *"warning: cannot create the log file"*"(logging to the console only)"* ]] &&
+if [ "$RC" = 0 ] && [[ "$OUT" == *"warning: cannot create the log file o2/log/curray.log"*"(logging to the console only)"* ]] &&
     [ -f o2/c_0.png ]; then ok "log folder cannot be created (warning only)"; else bad "log folder cannot be created (warning only)" "exit status $RC"; fi
-rm -f log
+rm -rf o2
 
 # A full disk: a 64 KiB file system holds frame 0 (info.txt, c_, r_ and a
 # 50 KB d_0.csv) but not frame 1. Frame 1 must leave no file of its own and
@@ -395,11 +407,11 @@ if [ "$(id -u)" = 0 ] && mount -t tmpfs -o size=64k tmpfs full 2>/dev/null; then
     grep -q '^Frame 0$' full/out/info.txt && ! grep -q '^Frame [12]$' full/out/info.txt &&
         grep -q 'Finished 1 of 3 frames (run incomplete)' full/out/info.txt || why=${why:-"info.txt does not list frame 0 alone"}
     if [ -z "$why" ]; then ok "full disk"; else bad "full disk" "$why"; fi
-    # the same with no room even for frame 0: nothing at all is left
+    # the same with no room even for frame 0: nothing is left but the log folder
     rm -rf full/out
     head -c 60000 /dev/zero >full/filler 2>/dev/null
     run -s good.yml -o full/out -x 24 -y 24 -t icrd -a true
-    if [ "$RC" = 1 ] && [[ "$OUT" == *"No space left on device"* ]] && [ -z "$(ls -A full/out)" ]; then
+    if [ "$RC" = 1 ] && [[ "$OUT" == *"No space left on device"* ]] && [ -z "$(ls -A full/out | grep -v '^log$')" ]; then
         ok "full disk at the first frame"
     else
         bad "full disk at the first frame" "exit status $RC; left: $(ls -A full/out | tr '\n' ' ')"
@@ -454,6 +466,114 @@ else
     grep -q "Finished $n_c of 200 frames (run incomplete)" si/info.txt || why=${why:-"info.txt lacks 'Finished $n_c of 200'"}
     [ -z "$(temps_in si)" ] || why=${why:-"temporary files left: $(temps_in si)"}
     if [ -z "$why" ]; then ok "Ctrl-C during a render (frames kept: $n_c)"; else bad "Ctrl-C during a render" "$why"; fi
+fi
+
+# --- frames count from 0; the console and info.txt show what is in use ------
+printf 'cpu: {threads: 2}\n' >c.yml
+rm -rf fr
+run -s good.yml -c c.yml -o fr -x 8 -y 8 -f 2 --threads 3 -a true
+why=""
+[ "$RC" = 0 ] || why="exit status $RC"
+[[ "$OUT" == *"frame 0 of 2 done"* && "$OUT" == *"frame 1 of 2 done"* ]] || why=${why:-"console lacks 'frame 0 of 2 done' and 'frame 1 of 2 done'"}
+[[ "$OUT" == *"frame 2 of 2"* ]] && why=${why:-"console counts frames from 1"}
+grep -Eq 'CPU threads +3$' fr/info.txt || why=${why:-"info.txt does not show --threads 3: $(grep 'CPU threads' fr/info.txt)"}
+if [ -z "$why" ]; then ok "frames count from 0; info.txt shows --threads"; else bad "frames count from 0; info.txt shows --threads" "$why"; fi
+
+# --- the prompt on a terminal (script(1) gives curray a pseudo-terminal) -----
+if command -v script >/dev/null 2>&1; then
+    for answer in " y" "" "Y" "  yes"; do
+        rm -rf pr
+        OUT=$(printf '%s\n' "$answer" | timeout 60 script -qec "'$CURRAY' -s good.yml -o pr -x 8 -y 8" /dev/null 2>&1)
+        RC=$?
+        if [ "$RC" = 0 ] && [[ "$OUT" == *"Proceed with rendering? [Y/n]"* ]] && [ -f pr/c_0.png ]; then
+            ok "prompt answered '$answer' renders"
+        else
+            bad "prompt answered '$answer' renders" "exit status $RC"
+        fi
+    done
+    for answer in " n" "no"; do
+        rm -rf pr
+        OUT=$(printf '%s\n' "$answer" | timeout 60 script -qec "'$CURRAY' -s good.yml -o pr -x 8 -y 8" /dev/null 2>&1)
+        RC=$?
+        if [ "$RC" = 0 ] && [[ "$OUT" == *"not rendering (declined)"* ]] && [ ! -e pr ]; then
+            ok "prompt answered '$answer' declines"
+        else
+            bad "prompt answered '$answer' declines" "exit status $RC"
+        fi
+    done
+else
+    skip "prompt on a terminal" "no script(1) here"
+fi
+
+# --- a second Ctrl-C stops at once --------------------------------------------
+# Frame 0 of a cheap scene (every ray escapes at once) is rendered in well under
+# a second, then its 1200x1200 CSV takes a second or more to write. The first
+# SIGINT comes while the CSV is being written (its temporary exists), which
+# lets the frame finish; the second must stop at once: no d_0.csv, no
+# temporary, exit status 130, well before the write could have finished.
+printf 'metric: {m: 1, a: 0, q: 0}\nobserver: {r: 1000, theta: 90, phi: 0, hfov: 60, yaw: 180}\n' >away.yml
+rm -rf s2
+"$CURRAY" -s away.yml -o s2 -x 1200 -y 1200 -f 3 -t d -a true </dev/null >s2.log 2>&1 &
+pid=$!
+for _ in $(seq 600); do [ -n "$(temps_in s2)" ] && break; sleep 0.02; done
+kill -INT "$pid" 2>/dev/null
+sleep 0.05
+t0=$(date +%s.%N)
+kill -INT "$pid" 2>/dev/null
+for _ in $(seq 300); do kill -0 "$pid" 2>/dev/null || break; sleep 0.01; done
+t1=$(date +%s.%N)
+if kill -0 "$pid" 2>/dev/null; then
+    kill -KILL "$pid"
+    wait "$pid" 2>/dev/null
+    OUT=$(cat s2.log)
+    bad "second Ctrl-C stops at once" "still running 3 s after the second SIGINT"
+else
+    wait "$pid"
+    RC=$?
+    OUT=$(cat s2.log)
+    took=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')
+    why=""
+    [ "$RC" = 130 ] || why="exit status $RC, expected 130"
+    [[ "$OUT" == *"interrupted again: stopped at once"* ]] || why=${why:-"message lacks 'interrupted again: stopped at once'"}
+    [ -e s2/d_0.csv ] && why=${why:-"the unfinished frame left d_0.csv"}
+    [ -z "$(temps_in s2)" ] || why=${why:-"temporary files left: $(temps_in s2)"}
+    awk -v t="$took" 'BEGIN { exit !(t < 0.5) }' || why=${why:-"took $took s after the second SIGINT"}
+    if [ -z "$why" ]; then ok "second Ctrl-C stops at once ($took s)"; else bad "second Ctrl-C stops at once" "$why"; fi
+fi
+rm -rf s2
+
+# --- a crash leaves a crash report ---------------------------------------------
+# SIGSEGV sent to a running render: <output>/log/crash-<time>-<pid>.log with the
+# signal, a backtrace and the run's settings; the process dies by SIGSEGV
+# (status 128 + 11 in the shell).
+rm -rf cr
+"$CURRAY" -s "$ROOT/scenes/demo.yml" -o cr -x 32 -y 32 -f 200 -t ic --threads 1 -a true </dev/null >cr.log 2>&1 &
+pid=$!
+for _ in $(seq 600); do [ -f cr/info.txt ] && break; sleep 0.1; done
+kill -SEGV "$pid" 2>/dev/null
+for _ in $(seq 300); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+if kill -0 "$pid" 2>/dev/null; then
+    kill -KILL "$pid"
+    wait "$pid" 2>/dev/null
+    OUT=$(cat cr.log)
+    bad "crash report" "still running 30 s after SIGSEGV"
+else
+    wait "$pid"
+    RC=$?
+    OUT=$(cat cr.log)
+    report=$(ls cr/log/crash-*-"$pid".log 2>/dev/null | head -1)
+    why=""
+    [ "$RC" = 139 ] || why="exit status $RC, expected 139 (death by SIGSEGV)"
+    [ -n "$report" ] || why=${why:-"no cr/log/crash-<time>-$pid.log"}
+    if [ -n "$report" ]; then
+        [[ "$(basename "$report")" =~ ^crash-[0-9]{8}-[0-9]{6}-$pid\.log$ ]] || why=${why:-"odd name $report"}
+        grep -q 'crashed: signal 11, SIGSEGV' "$report" || why=${why:-"report lacks the signal"}
+        grep -q '^Backtrace' "$report" || why=${why:-"report lacks a backtrace"}
+        grep -Eq 'curray(_cpu)?\(' "$report" || why=${why:-"the backtrace has no curray frame"}
+        grep -q "^command line: .*-o cr -x 32 -y 32 -f 200" "$report" || why=${why:-"report lacks the run's settings"}
+        [[ "$OUT" == *"crash report in $report"* ]] || why=${why:-"stderr does not name the report"}
+    fi
+    if [ -z "$why" ]; then ok "crash report (SIGSEGV)"; else bad "crash report" "$why"; [ -n "$report" ] && sed 's/^/       > /' "$report"; fi
 fi
 
 echo "$passed passed, $failed failed, $skipped skipped"

@@ -1,0 +1,70 @@
+/* curray cuda backend: which devices to render on (gpu.h, cr_gpu_select).
+ * Plain C without CUDA calls, built into every build (with and without
+ * CUDA) so that the selection is the same, and unit-tested with made-up
+ * device tables (tests/test_gpu_select.c). */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "gpu.h"
+
+/* Append printf-style text to msg (size n), cut at the end. */
+static void cr_gpu_append(char *msg, size_t n, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+static void cr_gpu_append(char *msg, size_t n, const char *fmt, ...)
+{
+    size_t len = strlen(msg);
+    va_list ap;
+    if (len + 1 >= n)
+        return;
+    va_start(ap, fmt);
+    vsnprintf(msg + len, n - len, fmt, ap);
+    va_end(ap);
+}
+
+int cr_gpu_select(const cr_gpu_device *table, int n_devices, const int *enabled, int n_enabled,
+                  int *chosen, int max_chosen, cr_err *err)
+{
+    char skipped[CR_ERR_MSG] = "", idle[CR_ERR_MSG] = "";
+    int d, n_chosen = 0, n_on = 0;
+
+    if (n_devices < 0)
+        n_devices = 0;
+    for (d = 0; d < n_devices; d++) {
+        int on = enabled && d < n_enabled && enabled[d];
+        n_on += on;
+        if (on && table[d].usable) {
+            if (n_chosen < max_chosen)
+                chosen[n_chosen++] = d;
+        } else if (on) {
+            cr_gpu_append(skipped, sizeof skipped, "%sGPU %d is unusable (%s)",
+                          skipped[0] ? "; " : "", d,
+                          table[d].why[0] ? table[d].why : "no reason given");
+        } else if (table[d].usable) {
+            cr_gpu_append(idle, sizeof idle, "%s%d", idle[0] ? ", " : "", d);
+        }
+    }
+    if (n_chosen > 0) {
+        if (err)
+            snprintf(err->msg, sizeof err->msg, "%s", skipped);
+        return n_chosen;
+    }
+    if (n_devices == 0)
+        cr_err_set(err, "no CUDA device found");
+    else if (n_on == 0 && idle[0])
+        cr_err_set(err,
+                   "no GPU is enabled in the configuration; usable: %s (enable one with "
+                   "gpus: {<number>: {enabled: true}})",
+                   idle);
+    else if (n_on == 0)
+        cr_err_set(err, "no GPU is enabled in the configuration, and none is usable");
+    else if (idle[0])
+        cr_err_set(err, "%s; usable but not enabled in the configuration: %s", skipped, idle);
+    else
+        cr_err_set(err, "%s", skipped);
+    return 0;
+}
