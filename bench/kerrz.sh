@@ -70,7 +70,7 @@ while [ $# -gt 0 ]; do
     --out) out=$2; shift 2 ;;
     --no-timing) timing=0; shift ;;
     --quick) size=160 runs=1; shift ;;
-    -h | --help) sed -n '2,56p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,55p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) die "unknown option '$1' (see --help)" ;;
     esac
 done
@@ -192,8 +192,7 @@ report() {
     echo
     echo "Machine: $(awk -F': ' '/^model name/ {print $2; exit}' /proc/cpuinfo), $(nproc) online cores." \
         "Load (uptime) before: ${start_uptime#*load average: }; after: ${end_uptime#*load average: }."
-    echo "curray: $("$CURRAY" --version 2>&1 | head -1), $(git -C "$REPO_DIR" rev-parse --short HEAD 2>/dev/null || echo '?')" \
-        "($(git -C "$REPO_DIR" status --porcelain -- src 2>/dev/null | grep -q . && echo 'with uncommitted changes in src/' || echo 'clean src/')), configuration:" \
+    echo "curray: $("$CURRAY" --version 2>&1 | head -1) $(bench_build_label), configuration:" \
         "$(grep -v '^#' "$config" | tr '\n' ' ' | sed 's/  */ /g')"
     echo "kerrz: $kz_version (kerrz-cli $kver from PyPI, in $venv)"
     echo

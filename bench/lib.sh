@@ -43,6 +43,18 @@ bench_ensure_time() {
 
 load1() { cut -d' ' -f1 /proc/loadavg; }
 
+# What the timed binary was built from, for the reports: the checkout's HEAD
+# and whether src/ had uncommitted changes, or the CURRAY_BIN given.
+bench_build_label() {
+    if [ -n "${CURRAY_BIN:-}" ]; then
+        echo "(binary CURRAY_BIN=$CURRAY_BIN)"
+    elif git -C "$REPO_DIR" status --porcelain -- src 2>/dev/null | grep -q .; then
+        echo "(built from the working tree at $(git -C "$REPO_DIR" rev-parse --short HEAD), with uncommitted changes in src/)"
+    else
+        echo "(built from $(git -C "$REPO_DIR" rev-parse --short HEAD 2>/dev/null || echo '?'), src/ clean)"
+    fi
+}
+
 # bench_info_value INFO KEY: a number from the first frame of info.txt.
 #   wall   the frame's wall time (s)
 #   rays   rays traced

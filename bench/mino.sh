@@ -25,8 +25,10 @@
 # Configurations: bench/scenes/mino.yml, rk4.yml, rk4-c128.yml (--tolerance
 # writes a mino configuration into the work folder instead of mino.yml).
 # Classes (disc/hole/sky) are compared by bench/compare_classes.py on each
-# case's d_0.csv from an extra run (-t id; untimed, except the reference of
-# (b), whose single run is that one); timed runs write info.txt only (-t i).
+# case's d_0.csv from a run with -t id. For the mino cases that run is an
+# extra, untimed one (a warm-up), and the timed runs write info.txt only
+# (-t i); for the slow rk4 cases it counts as their first timed run (writing
+# the CSV costs well under 1 % of an rk4 frame).
 #
 # Usage: bench/mino.sh [--parts "a b c"] [--runs N] [--slow-runs N]
 #                      [--tolerance T] [--tolerances "1e-6 1e-10"]
@@ -34,8 +36,9 @@
 #                      [--quick]
 #   --parts "..."     which parts to run (a b c)
 #   --runs N          timed runs of every mino case (5)
-#   --slow-runs N     timed runs of the rk4 cases of (a) and (b) (3); the
-#                     c = 1/128 reference of (b) runs once
+#   --slow-runs N     timed runs of the rk4 cases of (a) and (b), the class
+#                     run included (3); the c = 1/128 reference of (b) runs
+#                     once
 #   --tolerance T     mino's raytracer.tolerance in every part (default: none
 #                     given, curray's default)
 #   --tolerances ".." extra mino tolerances for (b) ("1e-6 1e-10"; "" for none)
@@ -65,7 +68,7 @@ while [ $# -gt 0 ]; do
     --work) work=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --quick) runs=1 slow=1 tols="" wa=160 ha=120 wb=40 size_c=80; shift ;;
-    -h | --help) sed -n '2,52p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,53p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) die "unknown option '$1' (see --help)" ;;
     esac
 done
@@ -93,37 +96,38 @@ tol_cfg() { # TOL -> path of a mino configuration with that tolerance
     echo "$f"
 }
 
-# --- cases: name|part|label|scene|config|width|height|threads|runs --------------
+# --- cases: name|part|label|scene|config|width|height|threads|runs|csv_timed ---
+# runs = timed runs besides the class run; csv_timed = 1: the class run is timed too
 cases=()
 has() { case " $parts " in *" $1 "*) return 0 ;; esac; return 1; }
 if has a; then
-    cases+=("a-mino|a|mino${tol:+ (tolerance $tol)}|$REPO_DIR/scenes/demo.yml|$mino_cfg|$wa|$ha|$nt|$runs")
-    cases+=("a-rk4|a|rk4 (c = 1/32)|$REPO_DIR/scenes/demo.yml|$S/rk4.yml|$wa|$ha|$nt|$slow")
+    cases+=("a-mino|a|mino${tol:+ (tolerance $tol)}|$REPO_DIR/scenes/demo.yml|$mino_cfg|$wa|$ha|$nt|$runs|0")
+    cases+=("a-rk4|a|rk4 (c = 1/32)|$REPO_DIR/scenes/demo.yml|$S/rk4.yml|$wa|$ha|$nt|$((slow - 1))|1")
 fi
 if has b; then
-    cases+=("b-mino|b|mino, ${tol:-default} tolerance|$S/mino-r100.yml|$mino_cfg|$wb|$wb|1|$runs")
+    cases+=("b-mino|b|mino, ${tol:-default} tolerance|$S/mino-r100.yml|$mino_cfg|$wb|$wb|1|$runs|0")
     for t in $tols; do
-        cases+=("b-mino-$t|b|mino, tolerance $t|$S/mino-r100.yml|$(tol_cfg "$t")|$wb|$wb|1|$runs")
+        cases+=("b-mino-$t|b|mino, tolerance $t|$S/mino-r100.yml|$(tol_cfg "$t")|$wb|$wb|1|$runs|0")
     done
-    cases+=("b-rk4|b|rk4 (c = 1/32)|$S/mino-r100.yml|$S/rk4.yml|$wb|$wb|1|$slow")
-    cases+=("b-ref|b|rk4 (c = 1/128), reference|$S/mino-r100.yml|$S/rk4-c128.yml|$wb|$wb|1|0")
+    cases+=("b-rk4|b|rk4 (c = 1/32)|$S/mino-r100.yml|$S/rk4.yml|$wb|$wb|1|$((slow - 1))|1")
+    cases+=("b-ref|b|rk4 (c = 1/128), reference|$S/mino-r100.yml|$S/rk4-c128.yml|$wb|$wb|1|0|1")
 fi
 if has c; then
-    cases+=("c-r30|c|r = 30|$S/distance-r30.yml|$mino_cfg|$size_c|$size_c|$nt|$runs")
-    cases+=("c-r1e6|c|r = 1e6|$S/distance-r1e6.yml|$mino_cfg|$size_c|$size_c|$nt|$runs")
-    cases+=("c-inf|c|r = inf|$S/distance-inf.yml|$mino_cfg|$size_c|$size_c|$nt|$runs")
+    cases+=("c-r30|c|r = 30|$S/distance-r30.yml|$mino_cfg|$size_c|$size_c|$nt|$runs|0")
+    cases+=("c-r1e6|c|r = 1e6|$S/distance-r1e6.yml|$mino_cfg|$size_c|$size_c|$nt|$runs|0")
+    cases+=("c-inf|c|r = inf|$S/distance-inf.yml|$mino_cfg|$size_c|$size_c|$nt|$runs|0")
 fi
 
 runs_csv="$out-runs.csv" cases_csv="$work/cases.csv"
 echo "case,part,kind,run,wall_s,user_s,sys_s,maxrss_kb,frame_s,steps,rays,load1_before" >"$runs_csv"
-echo "case|part|label|scene|config|width|height|threads|runs" >"$cases_csv"
+echo "case|part|label|scene|config|width|height|threads|runs|csv_timed" >"$cases_csv"
 printf '%s\n' "${cases[@]}" >>"$cases_csv"
 
 # run_case NAME KIND RUN W H: KIND = csv (the -t id run), time (-t i), base (1x1)
 run_case() {
     local name=$1 kind=$2 r=$3 line part label scene cfg w h th n
     for line in "${cases[@]}"; do [ "${line%%|*}" = "$name" ] && break; done
-    IFS='|' read -r _ part label scene cfg w h th n <<<"$line"
+    IFS='|' read -r _ part label scene cfg w h th n _ <<<"$line"
     local o="$work/$name-$kind" types=i
     [ "$kind" = csv ] && types=id
     [ "$kind" = base ] && w=1 h=1
@@ -149,11 +153,11 @@ start_uptime=$(uptime)
 for p in $parts; do
     names=() nruns=()
     for line in "${cases[@]}"; do
-        IFS='|' read -r name part _ _ _ _ _ _ n <<<"$line"
+        IFS='|' read -r name part _ _ _ _ _ _ n _ <<<"$line"
         [ "$part" = "$p" ] && names+=("$name") && nruns+=("$n")
     done
     echo "bench: part ($p): ${names[*]}" >&2
-    # the class images (untimed warm-up; the reference's only run)
+    # the class images (a warm-up for mino; the first timed run for rk4)
     for name in "${names[@]}"; do run_case "$name" csv 1; done
     # timed runs, alternating; (b) also times each case at 1x1 (its baseline)
     maxr=0
@@ -197,8 +201,7 @@ end_uptime=$(uptime)
     echo
     echo "Machine: $(awk -F': ' '/^model name/ {print $2; exit}' /proc/cpuinfo), $(nproc) online cores." \
         "Load (uptime) before: ${start_uptime#*load average: }; after: ${end_uptime#*load average: }."
-    echo "curray: $("$CURRAY" --version 2>&1 | head -1), $(git -C "$REPO_DIR" rev-parse --short HEAD 2>/dev/null || echo '?')" \
-        "($(git -C "$REPO_DIR" status --porcelain -- src 2>/dev/null | grep -q . && echo 'with uncommitted changes in src/' || echo 'clean src/')); $CURRAY."
+    echo "curray: $("$CURRAY" --version 2>&1 | head -1) $(bench_build_label); binary $CURRAY."
     echo
     python3 "$BENCH_DIR/mino_report.py" "$runs_csv" "$cases_csv" "$out"
 } | tee "$out.md"

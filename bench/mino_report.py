@@ -5,8 +5,8 @@ Usage: mino_report.py RUNS_CSV CASES_CSV OUT_PREFIX
 RUNS_CSV: case,part,kind,run,wall_s,user_s,sys_s,maxrss_kb,frame_s,steps,rays,load1_before
   kind: time (timed, -t i), csv (the -t id run for the classes), base (the
   same case at 1x1: start-up, scene and exit, for (b)).
-CASES_CSV: case|part|label|scene|config|width|height|threads|runs (a case with
-  runs 0 is timed by its csv run).
+CASES_CSV: case|part|label|scene|config|width|height|threads|runs|csv_timed
+  (csv_timed 1: the csv run counts as a timed run; the rk4 cases).
 OUT_PREFIX-compare-A-vs-B.txt: key=value lines of bench/compare_classes.py.
 Medians throughout; ratios are of the medians. Standard library only.
 """
@@ -33,7 +33,9 @@ def main():
 
     def timed(name):
         t = samples(name, "time")
-        return t if t else samples(name, "csv")
+        if byname[name].get("csv_timed") == "1":
+            t = samples(name, "csv") + t
+        return t
 
     def stat(name, kind=None):
         rs = samples(name, kind) if kind else timed(name)
@@ -110,7 +112,7 @@ def main():
                 "(reference)" if name == "b-ref" else cmp_cell(name, "b-ref")))
         print()
         print("CPU per ray = (median CPU time of the frame - median CPU time of the same run at 1x1) / rays; "
-              "CPU-ns/step likewise per step. The reference ran once (its class run).")
+              "CPU-ns/step likewise per step. The rk4 runs include their class run (-t id); the reference ran once.")
         print()
 
     if "c" in parts:
