@@ -515,18 +515,18 @@ printf 'metric: {m: 1, a: 0, q: 0}\nobserver: {r: 1000, theta: 90, phi: 0, hfov:
 rm -rf s2
 "$CURRAY" -s away.yml -o s2 -x 1200 -y 1200 -f 3 -t d -a true </dev/null >s2.log 2>&1 &
 pid=$!
-for _ in $(seq 600); do [ -n "$(temps_in s2)" ] && break; sleep 0.02; done
+for _ in $(seq 3000); do [ -n "$(temps_in s2)" ] && break; sleep 0.02; done
 kill -INT "$pid" 2>/dev/null
 sleep 0.05
 t0=$(date +%s.%N)
 kill -INT "$pid" 2>/dev/null
-for _ in $(seq 300); do kill -0 "$pid" 2>/dev/null || break; sleep 0.01; done
+for _ in $(seq 1000); do kill -0 "$pid" 2>/dev/null || break; sleep 0.01; done
 t1=$(date +%s.%N)
 if kill -0 "$pid" 2>/dev/null; then
     kill -KILL "$pid"
     wait "$pid" 2>/dev/null
     OUT=$(cat s2.log)
-    bad "second Ctrl-C stops at once" "still running 3 s after the second SIGINT"
+    bad "second Ctrl-C stops at once" "still running 10 s after the second SIGINT"
 else
     wait "$pid"
     RC=$?
@@ -537,7 +537,11 @@ else
     [[ "$OUT" == *"interrupted again: stopped at once"* ]] || why=${why:-"message lacks 'interrupted again: stopped at once'"}
     [ -e s2/d_0.csv ] && why=${why:-"the unfinished frame left d_0.csv"}
     [ -z "$(temps_in s2)" ] || why=${why:-"temporary files left: $(temps_in s2)"}
-    awk -v t="$took" 'BEGIN { exit !(t < 0.5) }' || why=${why:-"took $took s after the second SIGINT"}
+    # a sanitizer build (it cannot start under ulimit -v) runs a signal handler
+    # only at its next intercepted call, which the CSV writer makes seldom
+    limit=0.5
+    (ulimit -v 3000000 && "$CURRAY" --version) >/dev/null 2>&1 || limit=3
+    awk -v t="$took" -v l="$limit" 'BEGIN { exit !(t < l) }' || why=${why:-"took $took s after the second SIGINT (limit $limit s)"}
     if [ -z "$why" ]; then ok "second Ctrl-C stops at once ($took s)"; else bad "second Ctrl-C stops at once" "$why"; fi
 fi
 rm -rf s2
