@@ -20,10 +20,12 @@ Usage:
                   potential R(r) has no root outside the horizon. A captured
                   ray cannot be sky, one with a turning point cannot be hole:
                   the report counts which image each such pixel proves wrong,
-                  and the agreement once the side proven wrong is corrected.
+                  the agreement once the side proven wrong is corrected, and
+                  how many of the other disagreements lie on edges.
   --png PATH      write a picture of the disagreements (white: agree on sky,
                   grey: agree on disc, black: agree on hole; red: disagree on an
-                  edge, blue: disagree away from edges)
+                  edge, blue: disagree away from edges; with --bardeen, magenta:
+                  B proven wrong, green: A proven wrong)
   --markdown      print the summary as a markdown table as well
   --prefix P      prefix of the key=value lines (default "")
 
@@ -314,6 +316,7 @@ def main():
     pairs_int = {}
     bbox = None
     rgb = [[None] * W for _ in range(H)] if o.png else None
+    dis_list = []
     base = {"sky": (255, 255, 255), "disc": (150, 150, 150), "hole": (0, 0, 0), "other": (255, 200, 0)}
     for j in range(H):
         for i in range(W):
@@ -324,6 +327,7 @@ def main():
                 if rgb is not None:
                     rgb[j][i] = base[a]
                 continue
+            dis_list.append((i, j, a, b, ea[j][i] or eb[j][i]))
             if ea[j][i] or eb[j][i]:
                 dis_edge += 1
                 if rgb is not None:
@@ -350,30 +354,37 @@ def main():
         vx = o.vextent if o.vextent is not None else hx * H / W
         wrong = {na: 0, nb: 0}
         judged = undecided = fixable = 0
-        for j in range(H):
-            for i in range(W):
-                a, b = A[j][i], B[j][i]
-                if a == b or "hole" not in (a, b):
-                    continue
+        rest = rest_edge = 0
+        for i, j, a, b, edge in dis_list:
+            proven = False
+            if "hole" in (a, b):
                 al = (2.0 * (i + 0.5) / W - 1.0) * hx / 2.0
                 be = (1.0 - 2.0 * (j + 0.5) / H) * vx / 2.0
                 c = captured(al, be, spin, incl, qq)
                 if c is None:
                     undecided += 1
-                    continue
-                judged += 1
-                bad = []
-                for name, cls in ((na, a), (nb, b)):
-                    if (c and cls == "sky") or (not c and cls == "hole"):
-                        wrong[name] += 1
-                        bad.append(name)
-                if len(bad) == 1:
-                    fixable += 1
+                else:
+                    judged += 1
+                    bad = []
+                    for name, cls in ((na, a), (nb, b)):
+                        if (c and cls == "sky") or (not c and cls == "hole"):
+                            wrong[name] += 1
+                            bad.append(name)
+                    if len(bad) == 1:
+                        fixable += 1
+                        proven = True
+                        if rgb is not None:
+                            rgb[j][i] = (255, 0, 255) if bad[0] == nb else (0, 160, 0)
+            if not proven:
+                rest += 1
+                rest_edge += 1 if edge else 0
         out.append("%sbardeen_judged=%d" % (P, judged))
         out.append("%sbardeen_undecided=%d" % (P, undecided))
         out.append("%sbardeen_wrong_%s=%d" % (P, na, wrong[na]))
         out.append("%sbardeen_wrong_%s=%d" % (P, nb, wrong[nb]))
         out.append("%sagree_frac_bardeen_fixed=%.6f" % (P, (agree + fixable) / n))
+        out.append("%sdisagree_not_proven=%d" % (P, rest))
+        out.append("%sdisagree_not_proven_on_edges=%d" % (P, rest_edge))
     out.append("%swidth=%d" % (P, W))
     out.append("%sheight=%d" % (P, H))
     out.append("%spixels=%d" % (P, n))

@@ -240,13 +240,15 @@ EOF
     fi
     echo "### Pixel classes (disc / hole / sky)"
     echo
-    awk -F= '/^(agree_frac|disagree|disagree_on_edges|disagree_interior|disagree_on_edges_frac|grid_max_offset_M|bardeen_[a-z_]*|agree_frac_bardeen_fixed|interior_pairs|interior_bbox)=/ {print "- " $1 ": " $2}' "$out-compare.txt"
+    awk -F= '/^(agree_frac|disagree|disagree_on_edges|disagree_interior|disagree_on_edges_frac|grid_max_offset_M|bardeen_[a-z_]*|agree_frac_bardeen_fixed|disagree_not_proven|disagree_not_proven_on_edges|interior_pairs|interior_bbox)=/ {print "- " $1 ": " $2}' "$out-compare.txt"
     echo
     sed -n '/^|/,$p' "$out-compare.txt"
     echo
     echo "A disagreeing pixel is on an edge when one of its 8 neighbours has another class in either image."
     echo "bardeen_wrong_X: disagreements involving 'hole' where the ray's Bardeen constants prove X wrong"
     echo "(captured: R(r) > 0 for all r > r+, so not sky; a turning point outside the horizon: not hole)."
-    echo "Picture of the disagreements: $out-diff.png (red: on an edge, blue: interior). Runs: $runs_csv."
+    echo "disagree_not_proven(_on_edges): the disagreements left when those are set aside (and how many lie on edges)."
+    echo "Picture of the disagreements: $out-diff.png (magenta: kerrz proven wrong, green: curray proven wrong;"
+    echo "the rest red on an edge, blue interior). Runs: $runs_csv."
 }
 report | tee "$out.md"
