@@ -237,8 +237,10 @@ static void test_step_and_turn_limits(void **state)
     print_message("with max_turns = 1: %d after %u steps\n", p.outcome, p.steps);
     assert_int_equal(p.outcome, CR_OUT_LIMIT);
     assert_true(p.redshift == -1.0);
-    assert_true(p.color.r == f.horizon_color.r && p.color.g == f.horizon_color.g &&
-                p.color.b == f.horizon_color.b);
+    assert_true(p.color.r == f.limit_color.r && p.color.g == f.limit_color.g &&
+                p.color.b == f.limit_color.b);
+    assert_false(p.color.r == f.horizon_color.r && p.color.g == f.horizon_color.g &&
+                 p.color.b == f.horizon_color.b);
 
     /* a step limit below what most rays need: 300 under RK4, 8 under Mino */
     for (i = 0; i < 2; i++) {

@@ -897,7 +897,7 @@ static void test_info(void **state)
         "Frame 0\n",
         "  wall time              0.500 s\n",
         "  rays                   4\n",
-        "  RK4 steps              200\n",
+        "  integrator steps       200\n",
         "  steps per ray          50.0 (max 50)\n",
         "  rays per second        8\n",
         "Frame 1\n",

@@ -33,6 +33,7 @@ static inline void cr_test_empty_frame(cr_frame *f, double m, double a, double q
     f->width = f->height = 64;
     f->horizon_color.r = 255;
     f->error_color.b = 255;
+    f->limit_color.r = f->limit_color.g = 255;
     f->integrator = CR_DEFAULT_INTEGRATOR;
     f->tolerance = CR_DEFAULT_TOLERANCE;
     f->step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;

@@ -70,6 +70,7 @@ typedef struct cr_run {
     cr_log log;
     int log_open;
     cr_run_info info;
+    cr_info infotxt; /* info.txt: begun before the first frame, ended after the last */
     cr_trace_settings ts;
     char backend_name[64];
     char *settings; /* the run's settings as text, for the crash report */
@@ -134,25 +135,6 @@ static int cr_cancelled(void *ctx)
     return cr_interrupt_requested(&w->run->intr);
 }
 
-/* Rewrite info.txt with the finished frames, in frame order. Caller holds
- * run->lock. info.txt shows the CPU threads in use, not the file's value. */
-static int cr_write_info(cr_run *run, cr_err *err)
-{
-    cr_frame_stats *list;
-    cr_sysconfig used = run->cfg;
-    int k, n = 0, rc;
-    list = malloc(sizeof *list * (size_t)(run->n_done > 0 ? run->n_done : 1));
-    if (!list)
-        return cr_err_set(err, "out of memory writing info.txt");
-    for (k = 0; k < run->cli.frames; k++)
-        if (run->done[k])
-            list[n++] = run->stats[k];
-    used.cpu_threads = run->threads;
-    rc = cr_info_write(run->cli.output_dir, &run->info, &run->scene, &used, list, n, err);
-    free(list);
-    return rc;
-}
-
 /* Remove the files of frame k already written, types among "crd": a frame
  * that fails part-way (a full disk) leaves no file. */
 static void cr_remove_frame_files(const cr_run *run, int k, const char *types)
@@ -204,7 +186,7 @@ static int cr_finish_frame(cr_worker *w, int k, const cr_frame_stats *st, cr_err
     } else if (cr_interrupt_file_begin(&run->intr, w->slot, "info.txt")) {
         rc = cr_err_set(err, "interrupted");
     } else {
-        rc = cr_write_info(run, err);
+        rc = cr_info_add_frame(&run->infotxt, st, err);
         cr_interrupt_file_end(&run->intr, w->slot, 0, rc == 0);
     }
     if (rc) {
@@ -223,6 +205,9 @@ static int cr_finish_frame(cr_worker *w, int k, const cr_frame_stats *st, cr_err
                     (double)st->steps / (double)rays, st->counts[CR_OUT_HORIZON],
                     st->counts[CR_OUT_DISC], st->counts[CR_OUT_SPHERE], st->counts[CR_OUT_SKY],
                     st->counts[CR_OUT_ERROR], st->counts[CR_OUT_LIMIT]);
+        if (st->counts[CR_OUT_LIMIT] > 0)
+            cr_log_info(&run->log, "curray: warning: frame %d: %lld rays %s", k,
+                        st->counts[CR_OUT_LIMIT], CR_INFO_LIMIT_ADVICE);
     }
     pthread_mutex_unlock(&run->lock);
     return rc;
@@ -524,9 +509,23 @@ static int cr_check_frames(cr_run *run, cr_err *err)
     int k, rc = 0;
     if (!tmp)
         return cr_err_set(err, "out of memory");
-    for (k = 0; k < run->cli.frames && rc == 0; k++)
+    int shrunk = -1;
+    double eps_min = 0.0;
+    for (k = 0; k < run->cli.frames && rc == 0; k++) {
         rc = cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
                             (int)run->cli.height, &run->ts, &f, tmp, err);
+        if (rc == 0 && f.horizon_epsilon < run->ts.horizon_epsilon &&
+            (shrunk < 0 || f.horizon_epsilon < eps_min)) {
+            shrunk = k;
+            eps_min = f.horizon_epsilon;
+        }
+    }
+    if (rc == 0 && shrunk >= 0)
+        cr_log_info(&run->log,
+                    "curray: warning: the observer is closer to the horizon than 2 x "
+                    "raytracer.horizon_epsilon = %g M (frame %d): rays stop halfway between "
+                    "it and r+ instead, from %g M above r+",
+                    run->ts.horizon_epsilon, shrunk, eps_min);
     free(tmp);
     return rc;
 }
@@ -677,6 +676,16 @@ static int cr_prepare(cr_run *run, int *rc)
     run->info.frames = (int)run->cli.frames;
     run->info.output_types = run->cli.output_type;
     run->info.version = CURRAY_VERSION;
+    if (cr_has_type(run, 'i')) {
+        /* info.txt shows the CPU threads in use, not the file's value */
+        cr_sysconfig used = run->cfg;
+        used.cpu_threads = run->threads;
+        if (cr_info_begin(&run->infotxt, run->cli.output_dir, &run->info, &run->scene, &used,
+                          &err)) {
+            cr_log_error(&run->log, "curray: %s", err.msg);
+            return -1;
+        }
+    }
     cr_log_scene(run);
     if (!cr_confirm(run)) {
         cr_log_info(&run->log, "not rendering (declined)");
@@ -709,6 +718,10 @@ int main(int argc, char **argv)
         } else {
             rc = cr_report(&run);
         }
+    }
+    if (cr_info_end(&run.infotxt, &err) && run.log_open) { /* fsync: the records are on disk */
+        cr_log_error(&run.log, "curray: %s", err.msg);
+        rc = CR_EXIT_ERROR;
     }
     cr_crash_uninstall();
     free(run.settings);

@@ -97,7 +97,8 @@ typedef enum cr_outcome {
     CR_OUT_SPHERE = 3,  /* hit a sphere */
     CR_OUT_SKY = 4,     /* left the scene boundary r_max outward */
     CR_OUT_ERROR = 5,   /* numerical failure (non-finite state) */
-    CR_OUT_LIMIT = 6,   /* step or turn limit reached (e.g. photon-sphere orbit) */
+    CR_OUT_LIMIT = 6,   /* step or turn limit reached (e.g. photon-sphere orbit);
+                           painted in limit_color */
     CR_OUT_COUNT_ = 7
 } cr_outcome;
 
@@ -125,6 +126,7 @@ typedef struct cr_frame {
     cr_sky sky;          /* sky.rgb == NULL: plain sky_color */
     double sky_boundary; /* R of 6.10; 0 when unset */
     cr_rgb sky_color, horizon_color, error_color;
+    cr_rgb limit_color;  /* rays that end on max_steps or max_turns */
     int width, height;
 
     /* raytracer settings (system configuration) */

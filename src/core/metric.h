@@ -62,10 +62,9 @@ CR_HD static inline double cr_metric_r_ergo(const cr_metric *mt, double th)
  * ergosurface). */
 CR_HD static inline double cr_metric_minus_gtt(const cr_metric *mt, double r, double th)
 {
-    double s = sin(th), c = cos(th), a2 = mt->a * mt->a;
-    double sigma = r * r + a2 * c * c;
-    double delta = r * r + a2 + mt->q * mt->q - 2.0 * mt->m * r;
-    return (delta - a2 * s * s) / sigma;
+    cr_metric_point p;
+    cr_metric_eval(mt, r, th, &p);
+    return -p.g_tt;
 }
 
 /* The twelve non-zero Christoffel symbols Gamma^r and Gamma^theta,

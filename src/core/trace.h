@@ -309,6 +309,15 @@ CR_HD static inline int cr_ray_at_horizon(const cr_frame *f, const cr_ray *ray)
                                       : ray->y[CR_Y_R] <= f->r_stop;
 }
 
+/* Whether a hit located at BL radius r counts. A Mino step can carry the
+ * ray past the horizon stop r+ + epsilon, where the ray ends (6.8), so an
+ * event located beyond it is not seen; RK4 keeps the paper's rule (the stop
+ * is checked at step starts only), so its images stay as they were. */
+CR_HD static inline int cr_ray_outside_stop(const cr_frame *f, const cr_ray *ray, double r)
+{
+    return ray->kind != CR_INTEG_MINO || r >= f->r_stop;
+}
+
 CR_HD static inline int cr_ray_escaping(const cr_frame *f, const cr_ray *ray)
 {
     return ray->kind == CR_INTEG_MINO
@@ -441,7 +450,7 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
         }
         if (steps >= f->max_steps || turns >= f->max_turns) {
             px.outcome = CR_OUT_LIMIT;
-            px.color = f->horizon_color;
+            px.color = f->limit_color;
             break;
         }
         if (cr_ray_advance(f, ray) != 0) {
@@ -458,7 +467,7 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
                 double s = cr_event_locate(f, ray, CR_EV_DISC, v0, 1.0, v1, ys);
                 double rr, th, ph;
                 cr_ray_position(ray, ys, &rr, &th, &ph);
-                if (rr >= f->disc.r_in && rr <= f->disc.r_out) {
+                if (rr >= f->disc.r_in && rr <= f->disc.r_out && cr_ray_outside_stop(f, ray, rr)) {
                     hit_disc = 1;
                     s_disc = s;
                 }
@@ -468,6 +477,12 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             double ysp[CR_RAY_NY];
             cr_ray_cart(f, ray, y1, x1);
             hit_sphere = cr_sphere_events(f, ray, x0, x1, &s_sphere, ysp);
+            if (hit_sphere >= 0) {
+                double rr, th, ph;
+                cr_ray_position(ray, ysp, &rr, &th, &ph);
+                if (!cr_ray_outside_stop(f, ray, rr))
+                    hit_sphere = -1;
+            }
             if (hit_sphere >= 0 && (!hit_disc || s_sphere < s_disc)) {
                 double xs[3], rr, th, ph;
                 cr_ray_cart(f, ray, ysp, xs);

@@ -198,13 +198,13 @@ static void cr_info_frame(FILE *fp, int k, const cr_frame_stats *st)
     fprintf(fp, "Frame %d\n", k);
     fprintf(fp, "  %-22s %.3f s\n", "wall time", st->seconds);
     fprintf(fp, "  %-22s %lld\n", "rays", st->rays);
-    fprintf(fp, "  %-22s %llu\n", "RK4 steps", st->steps);
+    fprintf(fp, "  %-22s %llu\n", "integrator steps", st->steps);
     fprintf(fp, "  %-22s %.1f (max %u)\n", "steps per ray", per_ray, st->max_steps_ray);
     if (st->seconds > 0.0)
         fprintf(fp, "  %-22s %.0f\n", "rays per second", (double)st->rays / st->seconds);
     else
         fprintf(fp, "  %-22s n/a\n", "rays per second");
-    fprintf(fp, "  %-22s mean %.3e, max %.3e\n", "null error", st->err_mean, st->err_max);
+    fprintf(fp, "  %-22s mean %.3e, max %.3e\n", "error monitor", st->err_mean, st->err_max);
     fprintf(fp, "  %-22s", "pixels");
     for (int o = CR_OUT_HORIZON; o < CR_OUT_COUNT_; o++)
         fprintf(fp, " %s %lld%s", cr_outcome_name(o), st->counts[o],
@@ -212,6 +212,9 @@ static void cr_info_frame(FILE *fp, int k, const cr_frame_stats *st)
     if (st->counts[CR_OUT_NONE])
         fprintf(fp, ", not traced %lld", st->counts[CR_OUT_NONE]);
     fprintf(fp, "\n");
+    if (st->counts[CR_OUT_LIMIT] > 0)
+        fprintf(fp, "  %-22s %lld rays: %s\n", "warning", st->counts[CR_OUT_LIMIT],
+                CR_INFO_LIMIT_ADVICE);
 }
 
 /* The header: everything before the first frame record. */

@@ -22,6 +22,14 @@
 #include "scene.h"
 #include "sysconfig.h"
 
+/* What info.txt and the console say after the count of rays that ended on
+ * the step or turn limit (outcome "limit", painted in the scene's
+ * limit_color). */
+#define CR_INFO_LIMIT_ADVICE                                                                   \
+    "ended on raytracer.max_steps or raytracer.max_turns and are painted in limit_color "      \
+    "(yellow by default), not traced to the end; raise those limits (rays that orbit the "     \
+    "photon sphere need more turns), or with integrator: rk4 use integrator: mino"
+
 /* Statistics of one rendered frame, for info.txt and the console. */
 typedef struct cr_frame_stats {
     double seconds;                       /* wall time of the tracing */

@@ -447,10 +447,11 @@ static int parse_spheres(cr_yaml *y, yaml_node_t *root, cr_scene *s, cr_err *err
 static int parse_scene(const char *text, size_t len, const char *name, const char *base,
                        cr_scene *s, cr_err *err)
 {
-    enum { METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, N };
+    enum { METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, LIMITC, N };
     cr_yaml_field f[N] = {REQ("metric"),    REQ("observer"),      OPT("accretion"),
                           OPT("skymap"),    MANY("sphere"),       OPT("spheres"),
-                          OPT("sky_color"), OPT("horizon_color"), OPT("error_color")};
+                          OPT("sky_color"), OPT("horizon_color"), OPT("error_color"),
+                          OPT("limit_color")};
     cr_yaml y;
     yaml_node_t *root;
     char got[96];
@@ -481,7 +482,8 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
         goto fail;
     if (field_rgb(&y, &f[SKY], NULL, cr_rgb_make(0, 0, 0), &s->sky_color, err) ||
         field_rgb(&y, &f[HORIZON], NULL, cr_rgb_make(255, 0, 0), &s->horizon_color, err) ||
-        field_rgb(&y, &f[ERRC], NULL, cr_rgb_make(0, 0, 255), &s->error_color, err))
+        field_rgb(&y, &f[ERRC], NULL, cr_rgb_make(0, 0, 255), &s->error_color, err) ||
+        field_rgb(&y, &f[LIMITC], NULL, cr_rgb_make(255, 255, 0), &s->limit_color, err))
         goto fail;
     /* last: the image is the slow part */
     if (f[SKYMAP].value &&
@@ -604,6 +606,11 @@ static int eval(cr_anim v, int k, int n, double *out)
     return isfinite(*out) ? 0 : -1;
 }
 
+/* The largest field of view of the flat (rectilinear) screen: at 170 deg the
+ * centre tenth of the image already spans only +-30 deg, and towards 180 deg
+ * the whole picture collapses into the centre pixel (hfov: 179 looks empty). */
+#define CR_MAX_FOV_DEG 170.0
+
 static int check_fov(const char *key, double v, const cr_scene *s, int k, int n, cr_err *err)
 {
     if (!(v > 0.0 && v < CR_PI))
@@ -611,6 +618,12 @@ static int check_fov(const char *key, double v, const cr_scene *s, int k, int n,
                           "observer.%s = %g deg: a field of view must lie between 0 and 180 deg "
                           "(both excluded)",
                           key, DEG(v));
+    if (DEG(v) > CR_MAX_FOV_DEG)
+        return frame_fail(err, s, k, n,
+                          "observer.%s = %g deg: the flat screen cannot show more than %g deg "
+                          "(the picture collapses into its centre); use a smaller field of view "
+                          "(30 to 90 deg shows the hole and its surroundings)",
+                          key, DEG(v), CR_MAX_FOV_DEG);
     return 0;
 }
 
@@ -841,6 +854,7 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     f->sky_color = s->sky_color;
     f->horizon_color = s->horizon_color;
     f->error_color = s->error_color;
+    f->limit_color = s->limit_color;
     f->width = width;
     f->height = height;
     /* inside the core every length is in units of M (messages above use the
@@ -848,6 +862,15 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     for (i = 0; i < s->n_spheres; i++)
         cr_sphere_to_units_of_m(&sphere_buf[i], f->metric.m);
     cr_frame_to_units_of_m(f);
+    if (!s->obs_at_infinity) {
+        /* an observer closer to the horizon than 2 epsilon (8.1: observers
+         * just outside the horizon work): stop rays halfway between the
+         * observer and r+ instead; the caller sees the smaller
+         * horizon_epsilon in the frame and says so */
+        double gap = f->observer.r - cr_metric_r_plus(&f->metric);
+        if (gap < 2.0 * f->horizon_epsilon)
+            f->horizon_epsilon = 0.5 * gap;
+    }
     cr_frame_prepare(f);
     /* the boundary of an observer at infinity is at infinity too */
     if (!(isfinite(f->r_max) || (s->obs_at_infinity && f->r_max == INFINITY)) ||

@@ -75,6 +75,7 @@ typedef struct cr_scene {
     cr_rgb sky_color;     /* default black */
     cr_rgb horizon_color; /* default red */
     cr_rgb error_color;   /* default blue */
+    cr_rgb limit_color;   /* default yellow */
 } cr_scene;
 
 /* Read and check a scene file, including loading its sky image. On failure

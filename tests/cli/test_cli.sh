@@ -332,6 +332,34 @@ scene "sky boundary -inf" 1 'skymap.boundary: expected a positive number or inf 
 scene "sky boundary animated to inf" 1 "skymap.boundary[2]: inf (the sky at infinity) cannot be animated" \
     "$GOOD"$'skymap: {image: '"$ROOT"$'/scenes/sky_grid.png, boundary: [linear, 50, inf]}\n'
 
+# --- the flat screen's field of view; rays on the limits; an observer just
+# outside the horizon (issue 11 items 2 and 3) --------------------------------
+scene "hfov 179: the flat screen cannot show it" 1 "observer.hfov = 179 deg: the flat screen cannot show more than 170 deg" \
+    "$MET"$'observer: {r: 20, theta: 90, phi: 0, hfov: 179}\n'
+# rays that end on max_steps: own colour (yellow), a warning, a line in info.txt
+rm -rf o
+printf 'raytracer: {integrator: rk4, max_steps: 50}\n' >limits.yml
+run -s good.yml -o o -x 8 -y 8 -t icd -a true -c limits.yml
+if [ "$RC" = 0 ] && [[ "$OUT" == *"warning: frame 0: 64 rays ended on raytracer.max_steps"* ]] &&
+    grep -q '^  warning  *64 rays: ended on raytracer.max_steps' o/info.txt &&
+    [ "$(grep -c ',255,255,0,50,' o/d_0.csv)" = 64 ]; then
+    ok "limit rays: yellow, warned on the console and in info.txt"
+else
+    bad "limit rays: yellow, warned on the console and in info.txt" "rc $RC; $(grep -c ',255,255,0,' o/d_0.csv 2>&1)"
+fi
+# listing 7.1.5 from r = 2.004, closer to r+ = 2 than 2 x horizon_epsilon: rays
+# stop halfway instead, and it says so (before: every ray was horizon at step 0)
+rm -rf o
+printf '%s' "$MET"$'observer: {r: 2.004, theta: 85, phi: 0, yaw: 180, hfov: 70}\n' >near.yml
+run -s near.yml -o o -x 16 -y 16 -t id -a true
+sky=$(awk -F, '$10 == "sky"' o/d_0.csv 2>/dev/null | wc -l)
+if [ "$RC" = 0 ] && [[ "$OUT" == *"closer to the horizon than 2 x raytracer.horizon_epsilon"* ]] &&
+    [ "$sky" -gt 0 ]; then
+    ok "observer at r+ + 0.004 sees the sky ($sky of 256 pixels), with a warning"
+else
+    bad "observer at r+ + 0.004 sees the sky, with a warning" "rc $RC, $sky sky pixels"
+fi
+
 # --- sizes and frame counts -------------------------------------------------
 expect "width 0" 2 "-x: expected a width from 1 to 65536 pixels, got '0'" -s good.yml -o o -x 0 -y 8
 expect "negative height" 2 "-y: expected a height from 1 to 65536 pixels, got '-5'" -s good.yml -o o -x 8 -y -5
