@@ -5,7 +5,9 @@
  * default step of (6.6.1)), taken as the converged image. Compared with it:
  * mino at the default tolerance and rk4 at the default step_multiplier, all
  * other settings at their defaults, W x H pixels, frame 0 of each scene and,
- * when the scene is animated, also its middle frame (frame 1 of 3).
+ * when the scene is animated and CURRAY_TEST_FULL is set, also its middle
+ * frame (frame 1 of 3; left out by default to keep the sanitizer runs of CI
+ * short).
  *
  * Pixel class: the outcome; for a disc or sphere pixel also the object (disc
  * face, sphere index) and the colour (chessboard cell). Sky pixels are
@@ -53,8 +55,8 @@
 #include "io/sysconfig.h"
 #include "testutil.h"
 
-#define W 48
-#define H 36
+#define W 40
+#define H 30
 #define NPX (W * H)
 #define THREADS 2
 #define MAX_SPHERES 16
@@ -310,7 +312,7 @@ static void test_integrators_agree(void **state)
         snprintf(label, sizeof label, "%s frame 0", names[k]);
         failures += check_frame(&s, label, 0, 1, &total);
         frames++;
-        if (frames_differ(&s, 0, 1, 1, 3)) {
+        if (getenv("CURRAY_TEST_FULL") && frames_differ(&s, 0, 1, 1, 3)) {
             snprintf(label, sizeof label, "%s frame 1 of 3", names[k]);
             failures += check_frame(&s, label, 1, 3, &total);
             frames++;
