@@ -22,7 +22,7 @@ Usage:
                   the report counts which image each such pixel proves wrong,
                   the agreement once the side proven wrong is corrected, and
                   how many of the other disagreements lie on edges.
-  --png PATH      write a picture of the disagreements (white: agree on sky,
+  --png PATH      write a picture of the disagreements, if any (white: agree on sky,
                   grey: agree on disc, black: agree on hole; red: disagree on an
                   edge, blue: disagree away from edges; with --bardeen, magenta:
                   B proven wrong, green: A proven wrong)
@@ -401,7 +401,7 @@ def main():
     out.append("%sinterior_bbox=%s" % (P, "none" if bbox is None else "x%d-%d,y%d-%d" % tuple(bbox)))
     out.append("%sconfusion=%s" % (P, ",".join("%s>%s:%d" % (a, b, c) for (a, b), c in sorted(conf.items()))))
     print("\n".join(out))
-    if o.png:
+    if o.png and dis:
         write_png(o.png, rgb, W, H)
     if o.markdown:
         print()
