@@ -955,7 +955,7 @@ static void test_info_at_infinity(void **state)
         "  image plane height     from the width and the aspect ratio\n",
         "  boundary R             inf (the sky at infinity)\n",
         "  integrator             rk4\n",
-        "  tolerance              1e-08 (mino only, unused)\n",
+        "  tolerance              1e-07 (mino only, unused)\n",
         "  step multiplier        0.03125\n",
     };
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)

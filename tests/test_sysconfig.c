@@ -73,7 +73,7 @@ static void test_defaults(void **state)
     assert_true(c.horizon_epsilon == 0.5e-2);
     assert_true(c.step_multiplier == 1.0 / 32.0);
     assert_int_equal(c.integrator, CR_INTEG_MINO);
-    assert_true(c.tolerance == 1e-8);
+    assert_true(c.tolerance == 1e-7);
     for (i = 0; i < sizeof empties / sizeof empties[0]; i++) {
         memset(&c, 0x5a, sizeof c);
         load_ok(empties[i], &c);

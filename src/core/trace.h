@@ -32,7 +32,7 @@
 #define CR_DEFAULT_MAX_STEPS 200000L
 #define CR_DEFAULT_MAX_TURNS 50.0
 #define CR_DEFAULT_INTEGRATOR CR_INTEG_MINO
-#define CR_DEFAULT_TOLERANCE 1e-8
+#define CR_DEFAULT_TOLERANCE 1e-7
 
 /* The scene boundary when nothing else asks for more: beyond every photon
  * orbit of a Kerr-Newman hole (r <= 4M), so an outgoing ray there escapes. */
@@ -205,9 +205,48 @@ CR_HD static inline double cr_event_locate(const cr_frame *f, const cr_ray *ray,
     return s;
 }
 
+/* Smallest value of sphere event k along the current step, by golden-section
+ * search of the step fraction on cr_ray_state_at (the squared distance to a
+ * sphere along one step is unimodal). Returns the value, *s_min its place. */
+CR_HD static inline double cr_sphere_dip(const cr_frame *f, const cr_ray *ray, int k,
+                                         double *s_min, double *ys)
+{
+    const double g = 0.38196601125010515; /* 2 - golden ratio */
+    double a = 0.0, b = 1.0, c = g, d = 1.0 - g, fc, fd;
+    int it;
+    cr_ray_state_at(ray, c, ys);
+    fc = cr_event_value(f, ray, k, ys);
+    cr_ray_state_at(ray, d, ys);
+    fd = cr_event_value(f, ray, k, ys);
+    for (it = 0; it < 40 && fc >= 0.0 && fd >= 0.0; it++) {
+        if (fc < fd) {
+            b = d;
+            d = c;
+            fd = fc;
+            c = a + g * (b - a);
+            cr_ray_state_at(ray, c, ys);
+            fc = cr_event_value(f, ray, k, ys);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = b - g * (b - a);
+            cr_ray_state_at(ray, d, ys);
+            fd = cr_event_value(f, ray, k, ys);
+        }
+    }
+    *s_min = fc < fd ? c : d;
+    return fc < fd ? fc : fd;
+}
+
 /* Earliest sphere hit within the current step (x0, x1 the Cartesian
  * positions at its ends). Catches both a sign change of |x - c|^2 - R^2 and
- * a ray that enters and leaves within the step (chord passing inside).
+ * a ray that enters and leaves within the step: under RK4 (short, nearly
+ * straight steps) where the chord passes inside the sphere; under Mino (a
+ * step may cross much of the scene, and its fraction is not proportional to
+ * the distance along the chord) where the chord passes within R plus a
+ * quarter of its length, the step's closest approach is found by
+ * cr_sphere_dip.
  * Returns the sphere index or -1; on a hit, *s_out and ys hold the located
  * point. */
 CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_ray *ray,
@@ -238,14 +277,26 @@ CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_ray *ray,
             if (!(dd > 0.0))
                 continue;
             t = -wd / dd;
-            if (t <= 0.0 || t >= 1.0)
-                continue;
-            for (i = 0; i < 3; i++)
-                xm[i] = x0[i] + t * d[i];
-            if (cr_sphere_f(sp, xm) >= 0.0)
-                continue;
-            cr_ray_state_at(ray, t, tmp);
-            v1 = cr_event_value(f, ray, k, tmp);
+            if (ray->kind == CR_INTEG_MINO) {
+                double dist2 = 0.0, slack = sp->radius + 0.25 * sqrt(dd);
+                t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+                for (i = 0; i < 3; i++) {
+                    xm[i] = x0[i] + t * d[i] - sp->center[i];
+                    dist2 += xm[i] * xm[i];
+                }
+                if (dist2 >= slack * slack)
+                    continue;
+                v1 = cr_sphere_dip(f, ray, k, &t, tmp);
+            } else {
+                if (t <= 0.0 || t >= 1.0)
+                    continue;
+                for (i = 0; i < 3; i++)
+                    xm[i] = x0[i] + t * d[i];
+                if (cr_sphere_f(sp, xm) >= 0.0)
+                    continue;
+                cr_ray_state_at(ray, t, tmp);
+                v1 = cr_event_value(f, ray, k, tmp);
+            }
             if (v1 >= 0.0)
                 continue;
             s_hi = t;
