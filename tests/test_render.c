@@ -209,12 +209,60 @@ static void test_image_independent_of_mass(void **state)
     }
 }
 
+/* An observer at infinity with a plain sky colour: rays that never get
+ * inside the scene's radius (R < 0 there) are classed as sky without being
+ * traced (cr_ray_misses_scene). The same frame with a 1x1 sky texture (which
+ * needs every ray's direction, so every ray is traced to infinity) must give
+ * the same outcome and object at every pixel; and the shortcut must really
+ * be taken (sky pixels with 0 steps). */
+static void test_misses_scene_shortcut(void **state)
+{
+    static const char text[] = "metric: {m: 1, a: 0.9, q: 0.2}\n"
+                               "observer: {r: inf, theta: 85, phi: 0, hextent: 40}\n"
+                               "accretion: {color1: [0, 255, 0], resolution: [2, 12], "
+                               "radius: [6, 15]}\n"
+                               "sphere: {color: [0, 0, 255], resolution: [4, 8], r: 14, "
+                               "theta: 60, phi: 120, radius: 3}\n";
+    static const uint8_t tex[3] = {10, 20, 30};
+    cr_scene s;
+    cr_err err;
+    cr_frame f;
+    cr_sphere sp[1];
+    cr_pixel *a = calloc(W * H, sizeof *a), *b = calloc(W * H, sizeof *b);
+    int k, skipped = 0;
+    (void)state;
+    if (cr_scene_load_string(text, strlen(text), "inf.yml", &s, &err) ||
+        cr_scene_frame(&s, 0, 1, W, H, NULL, &f, sp, &err))
+        fail_msg("%s", err.msg);
+    assert_int_equal(cr_cpu_render(&f, 2, a, NULL, NULL, NULL, &err), 0);
+    f.sky.rgb = tex;
+    f.sky.width = f.sky.height = 1;
+    cr_frame_prepare(&f);
+    assert_int_equal(cr_cpu_render(&f, 2, b, NULL, NULL, NULL, &err), 0);
+    for (k = 0; k < W * H; k++) {
+        assert_int_equal(a[k].outcome, b[k].outcome);
+        assert_int_equal(a[k].object, b[k].object);
+        if (a[k].outcome == CR_OUT_SKY && a[k].steps == 0) {
+            skipped++;
+            assert_true(b[k].steps > 0);
+        }
+    }
+    print_message("observer at infinity: %d of %d rays classed as sky without tracing, all "
+                  "as the fully traced frame\n",
+                  skipped, W * H);
+    assert_true(skipped > W * H / 10);
+    cr_scene_free(&s);
+    free(a);
+    free(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_schwarzschild_disc_listing),
         cmocka_unit_test(test_kerr_disc_is_not_mirror_symmetric),
         cmocka_unit_test(test_image_independent_of_mass),
+        cmocka_unit_test(test_misses_scene_shortcut),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

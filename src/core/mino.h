@@ -381,7 +381,7 @@ CR_HD static inline void cr_dp5_dense(const cr_dp5 *st, const double *y0, const 
 CR_HD static inline double cr_mino_first_step(const cr_mino *c, double tol)
 {
     double rate = c->omega > fabs(c->E) ? c->omega : fabs(c->E);
-    double f = 0.5 * sqrt(sqrt(tol)); /* ~ tol^(1/4) */
+    double f = 2.0 * sqrt(sqrt(tol)); /* ~ tol^(1/4) */
     return f / rate;
 }
 

@@ -376,6 +376,18 @@ CR_HD static inline int cr_ray_escaping(const cr_frame *f, const cr_ray *ray)
                : ray->y[CR_Y_R] >= f->r_max && ray->u[1] > 0.0;
 }
 
+/* Whether a Mino ray that comes in from beyond the sky radius never gets
+ * inside it: then R(r) < 0 at r = 1/w_sky, so it turns at a larger radius
+ * and leaves again, and ends as sky by the rule above without meeting
+ * anything. Only taken when the sky is a plain colour (no direction is
+ * needed); the image of an observer at infinity is mostly such rays. */
+CR_HD static inline int cr_ray_misses_scene(const cr_frame *f, const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO && !f->sky.rgb && f->w_sky > 0.0 &&
+           ray->m[CR_M_W] < f->w_sky && ray->m[CR_M_DW] > 0.0 &&
+           cr_mino_W(&ray->c, f->w_sky) < 0.0;
+}
+
 /* One step from the current state to y1 / m1. Returns 0, or -1 when the
  * integration failed (non-finite state, step size collapsed). */
 CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
@@ -483,7 +495,7 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             mean += d / n_err;
             m2 += d * (e - mean);
         }
-        if (cr_ray_escaping(f, ray)) {
+        if (cr_ray_escaping(f, ray) || (steps == 0 && cr_ray_misses_scene(f, ray))) {
             px.outcome = CR_OUT_SKY;
             if (f->sky.rgb) {
                 double sth, sph;
