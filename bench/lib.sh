@@ -33,9 +33,11 @@ bench_ensure_binary() {
 # Debian package `time` when it is missing (as tools/install-deps.sh does for
 # the build); without it, fall back to polling VmHWM in /proc/<pid>/status.
 GNU_TIME=/usr/bin/time
+# CURRAY_BENCH_OFFLINE=1 (a machine without a package registry, e.g. the GPU
+# machine of tools/gpu-check.sh) skips the install.
 bench_ensure_time() {
     if [ -x "$GNU_TIME" ] && "$GNU_TIME" -v true >/dev/null 2>&1; then return 0; fi
-    "$REPO_DIR/tools/install-deps.sh" time >&2 2>&1 || true
+    [ -n "${CURRAY_BENCH_OFFLINE:-}" ] || "$REPO_DIR/tools/install-deps.sh" time >&2 2>&1 || true
     if [ -x "$GNU_TIME" ] && "$GNU_TIME" -v true >/dev/null 2>&1; then return 0; fi
     echo "bench: GNU time unavailable; peak memory read from /proc/<pid>/status (VmHWM, polled)" >&2
     GNU_TIME=""

@@ -213,43 +213,43 @@ static int cr_finish_frame(cr_worker *w, int k, const cr_frame_stats *st, cr_err
     return rc;
 }
 
-/* Render and write one frame. Returns 0, or -1 with err set (err->msg is
- * "interrupted" after Ctrl-C); a frame that fails leaves none of its files,
- * and info.txt lists only the frames whose files are all written. */
-static int cr_do_frame(cr_worker *w, int k, cr_pixel *px, cr_sphere *spheres, cr_err *err)
+/* Make frame k the worker's frame in progress, none of it done yet. */
+static void cr_worker_frame(cr_worker *w, int k)
+{
+    pthread_mutex_lock(&w->run->lock);
+    w->frame = k;
+    w->frac = 0.0;
+    pthread_mutex_unlock(&w->run->lock);
+}
+
+/* The worker has no part of a frame done (it failed or stopped). */
+static void cr_worker_idle(cr_worker *w)
+{
+    pthread_mutex_lock(&w->run->lock);
+    w->frac = 0.0;
+    pthread_mutex_unlock(&w->run->lock);
+}
+
+/* Write the files of frame k, traced into px (width x height) in `seconds`,
+ * and mark it finished. Returns 0, or -1 with err set (err->msg is
+ * "interrupted" after a second Ctrl-C); a frame that fails leaves none of
+ * its files, and info.txt lists only the frames whose files are all
+ * written. */
+static int cr_output_frame(cr_worker *w, int k, const cr_pixel *px, int width, int height,
+                           double seconds, cr_err *err)
 {
     static const char types[] = "crd";
     cr_run *run = w->run;
-    cr_frame f;
     cr_frame_stats st;
-    double t0;
     char written[4] = "";
-    int n_written = 0, rc, i;
-    if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
-                       (int)run->cli.height, &run->ts, &f, spheres, err))
-        return -1;
-    pthread_mutex_lock(&run->lock);
-    w->frame = k;
-    w->frac = 0.0;
-    pthread_mutex_unlock(&run->lock);
-    t0 = cr_now();
-    if (w->device < 0)
-        rc = cr_cpu_render(&f, run->threads, px, cr_progress, w, &run->intr.count, err);
-    else
-        rc = cr_gpu_render_ex(w->device, &f, px, cr_progress, cr_cancelled, w, err);
-    if (rc) {
-        pthread_mutex_lock(&run->lock);
-        w->frac = 0.0;
-        pthread_mutex_unlock(&run->lock);
-        return -1;
-    }
-    cr_frame_stats_compute(px, (long long)f.width * f.height, cr_now() - t0, &st);
+    int n_written = 0, i;
+    cr_frame_stats_compute(px, (long long)width * height, seconds, &st);
     st.frame = k;
     cr_interrupt_frame_begin(&run->intr, w->slot, k);
     for (i = 0; types[i]; i++) {
         if (!cr_has_type(run, types[i]))
             continue;
-        if (cr_write_frame_file(w, types[i], k, px, f.width, f.height, err))
+        if (cr_write_frame_file(w, types[i], k, px, width, height, err))
             goto fail;
         written[n_written++] = types[i];
     }
@@ -258,10 +258,96 @@ static int cr_do_frame(cr_worker *w, int k, cr_pixel *px, cr_sphere *spheres, cr
 fail:
     cr_remove_frame_files(run, k, written);
     cr_interrupt_frame_end(&run->intr, w->slot);
-    pthread_mutex_lock(&run->lock);
-    w->frac = 0.0;
-    pthread_mutex_unlock(&run->lock);
+    cr_worker_idle(w);
     return -1;
+}
+
+/* Render frame k on the CPU and write it. Returns 0, or -1 with err set
+ * (err->msg is "interrupted" after Ctrl-C). */
+static int cr_do_frame(cr_worker *w, int k, cr_pixel *px, cr_sphere *spheres, cr_err *err)
+{
+    cr_run *run = w->run;
+    cr_frame f;
+    double t0;
+    if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                       (int)run->cli.height, &run->ts, &f, spheres, err))
+        return -1;
+    cr_worker_frame(w, k);
+    t0 = cr_now();
+    if (cr_cpu_render(&f, run->threads, px, cr_progress, w, &run->intr.count, err)) {
+        cr_worker_idle(w);
+        return -1;
+    }
+    return cr_output_frame(w, k, px, f.width, f.height, cr_now() - t0, err);
+}
+
+/* Take the next frame from the stack: its number, or -1 when the run is over
+ * (every frame taken, a worker failed, or Ctrl-C). */
+static int cr_next_frame(cr_run *run)
+{
+    int k = atomic_fetch_add(&run->next_frame, 1);
+    int stop;
+    pthread_mutex_lock(&run->lock);
+    stop = run->failed;
+    pthread_mutex_unlock(&run->lock);
+    if (stop || cr_interrupt_requested(&run->intr) || k >= run->cli.frames)
+        return -1;
+    return k;
+}
+
+/* Prepare frame k and queue it on the GPU session (asynchronous). */
+static int cr_gpu_start(cr_worker *w, cr_gpu_session *gs, int k, cr_sphere *spheres, cr_err *err)
+{
+    cr_run *run = w->run;
+    cr_frame f;
+    if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                       (int)run->cli.height, &run->ts, &f, spheres, err))
+        return -1;
+    return cr_gpu_session_launch(gs, &f, err);
+}
+
+/* Every frame a GPU worker takes, through one session for the whole run
+ * (device buffers and the sky texture stay on the device): frame k+1 is
+ * queued before frame k's files are written, so the GPU traces while the
+ * host writes (the session holds two frames' pixels). Returns 0, or -1 with
+ * err set; frames in flight at a failure are stopped and leave no file. */
+static int cr_gpu_frames(cr_worker *w, cr_sphere *spheres, cr_err *err)
+{
+    cr_run *run = w->run;
+    cr_gpu_session *gs;
+    int k, next, rc = -1;
+    gs = cr_gpu_session_create(w->device, (size_t)run->cli.width * (size_t)run->cli.height, err);
+    if (!gs)
+        return -1;
+    k = cr_next_frame(run);
+    if (k >= 0 && cr_gpu_start(w, gs, k, spheres, err))
+        goto done;
+    for (; k >= 0; k = next) {
+        const cr_pixel *px;
+        double seconds = 0.0;
+        cr_err next_err;
+        int next_rc = 0;
+        cr_worker_frame(w, k);
+        px = cr_gpu_session_wait(gs, cr_progress, cr_cancelled, w, &seconds, err);
+        if (!px) {
+            cr_worker_idle(w);
+            goto done;
+        }
+        next = cr_next_frame(run);
+        if (next >= 0)
+            next_rc = cr_gpu_start(w, gs, next, spheres, &next_err);
+        /* frame k is written even when frame k+1 could not be started */
+        if (cr_output_frame(w, k, px, (int)run->cli.width, (int)run->cli.height, seconds, err))
+            goto done;
+        if (next_rc) {
+            *err = next_err;
+            goto done;
+        }
+    }
+    rc = 0;
+done:
+    cr_gpu_session_free(gs);
+    return rc;
 }
 
 static void *cr_worker_main(void *arg)
@@ -269,25 +355,23 @@ static void *cr_worker_main(void *arg)
     cr_worker *w = arg;
     cr_run *run = w->run;
     size_t npx = (size_t)run->cli.width * (size_t)run->cli.height;
-    cr_pixel *px = malloc(npx * sizeof *px);
+    cr_pixel *px = w->device < 0 ? malloc(npx * sizeof *px) : NULL; /* GPU: the session's */
     cr_sphere *spheres = malloc(sizeof *spheres * (size_t)(run->scene.n_spheres + 1));
     cr_err err;
     err.msg[0] = '\0';
-    if (!px || !spheres) {
+    if ((w->device < 0 && !px) || !spheres) {
         cr_err_set(&err, "cannot allocate %.1f MiB for a %ldx%ld frame",
                    (double)(npx * sizeof *px) / (1 << 20), run->cli.width, run->cli.height);
         goto fail;
     }
-    for (;;) {
-        int k = atomic_fetch_add(&run->next_frame, 1);
-        int stop;
-        pthread_mutex_lock(&run->lock);
-        stop = run->failed;
-        pthread_mutex_unlock(&run->lock);
-        if (stop || cr_interrupt_requested(&run->intr) || k >= run->cli.frames)
-            break;
-        if (cr_do_frame(w, k, px, spheres, &err))
+    if (w->device >= 0) {
+        if (cr_gpu_frames(w, spheres, &err))
             goto fail;
+    } else {
+        int k;
+        while ((k = cr_next_frame(run)) >= 0)
+            if (cr_do_frame(w, k, px, spheres, &err))
+                goto fail;
     }
     free(px);
     free(spheres);
@@ -358,14 +442,15 @@ static void cr_log_scene(cr_run *run)
 }
 
 /* Refuse, before anything large is allocated, a run whose buffers cannot fit
- * in memory: per worker a frame of cr_pixel, plus the 8-bit image written
- * from it and the per-frame statistics. The limit is the physical memory, or
+ * in memory: per worker a frame of cr_pixel (two for a GPU worker, whose
+ * session holds the frame being written and the next one), plus the 8-bit
+ * image written from it and the per-frame statistics. The limit is the physical memory, or
  * the address-space or data limit (ulimit -v, -d) when lower. */
 static int cr_check_memory(const cr_run *run, int n_workers, cr_err *err)
 {
     const double gib = 1024.0 * 1024.0 * 1024.0;
     double px = (double)run->cli.width * (double)run->cli.height;
-    double need = px * ((double)sizeof(cr_pixel) * n_workers + 3.0) +
+    double need = px * ((double)sizeof(cr_pixel) * n_workers * (run->use_cuda ? 2 : 1) + 3.0) +
                   (double)run->cli.frames * (double)(sizeof(cr_frame_stats) + 1);
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     double have = pages > 0 && page > 0 ? (double)pages * (double)page : 0.0;

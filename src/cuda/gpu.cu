@@ -1,5 +1,6 @@
 /* curray cuda backend: the kernel around cr_trace_pixel, the device query of
- * -i (listing E.1) and device selection.
+ * -i (listing E.1), device selection, and the session that keeps one device
+ * set up for a whole run (gpu.h).
  *
  * The physics is the shared header code of src/core (DESIGN rule 1); this
  * file only moves data. Compiling it also checks that the core headers build
@@ -17,6 +18,7 @@
 #include <cuda_runtime.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "../core/trace.h"
@@ -67,15 +69,34 @@ static int cr_gpu_try_(cudaError_t e, cr_err *err, const char *file, int line, c
     return cr_gpu_fail(err, file, line, call, e);
 }
 
-/* One thread per pixel; rows [row0, row_end) of the frame. */
-__global__ void cr_gpu_trace_kernel(const cr_frame *__restrict__ f, cr_pixel *__restrict__ out,
-                                    int row0, int row_end)
+/* One thread per pixel; rows [row0, row_end) of the frame f, passed by value
+ * (a __grid_constant__ argument lives in the constant bank and its address
+ * can be taken without a copy to local memory; needs compute capability
+ * 7.0). Blocks that start after *abort became non-zero return at once.
+ * CR_GPU_MAX_THREADS / CR_GPU_MIN_BLOCKS (CMake's CURRAY_CUDA_LAUNCH_BOUNDS)
+ * give the kernel __launch_bounds__. */
+#if defined(CR_GPU_MAX_THREADS) && defined(CR_GPU_MIN_BLOCKS)
+#define CR_GPU_LAUNCH_BOUNDS __launch_bounds__(CR_GPU_MAX_THREADS, CR_GPU_MIN_BLOCKS)
+#elif defined(CR_GPU_MAX_THREADS)
+#define CR_GPU_LAUNCH_BOUNDS __launch_bounds__(CR_GPU_MAX_THREADS)
+#else
+#define CR_GPU_LAUNCH_BOUNDS
+#endif
+__global__ void CR_GPU_LAUNCH_BOUNDS cr_gpu_trace_kernel(const __grid_constant__ cr_frame f,
+                                                         cr_pixel *__restrict__ out, int row0,
+                                                         int row_end, const volatile int *abort)
 {
     int i = (int)(blockIdx.x * blockDim.x + threadIdx.x);
     int j = row0 + (int)(blockIdx.y * blockDim.y + threadIdx.y);
-    if (i < f->width && j < row_end)
-        out[(size_t)j * f->width + i] = cr_trace_pixel(f, i, j);
+    if (*abort)
+        return;
+    if (i < f.width && j < row_end)
+        out[(size_t)j * f.width + i] = cr_trace_pixel(&f, i, j);
 }
+
+/* A kernel argument is limited to 4 KiB on every CUDA version and device. */
+static_assert(sizeof(cr_frame) <= 4000, "cr_frame is too large to pass by value");
+
 
 /* ---- devices ------------------------------------------------------------ */
 
@@ -255,6 +276,28 @@ static int cr_gpu_attr(cudaDeviceAttr a, int d)
     return v;
 }
 
+/* Print the kernel's resources on device d (-i): registers and local memory
+ * per thread, and how many threads of the session's block size fit on one
+ * multiprocessor. */
+static void cr_gpu_print_kernel(FILE *out, int d)
+{
+    cudaFuncAttributes a;
+    int min_grid = 0, block = 0, per_sm = 0, max_threads = 0;
+    if (cudaSetDevice(d) != cudaSuccess || cudaFuncGetAttributes(&a, cr_gpu_trace_kernel) ||
+        cudaOccupancyMaxPotentialBlockSize(&min_grid, &block, cr_gpu_trace_kernel, 0, 0) ||
+        cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, cr_gpu_trace_kernel, block, 0)) {
+        cudaGetLastError();
+        return;
+    }
+    max_threads = cr_gpu_attr(cudaDevAttrMaxThreadsPerMultiProcessor, d);
+    cr_gpu_line(out, "Kernel registers per thread:", "%d%s", a.numRegs, CR_GPU_REGCAP_TEXT);
+    cr_gpu_line(out, "Kernel local memory per thread:", "%zu bytes", a.localSizeBytes);
+    cr_gpu_line(out, "Kernel occupancy:", "%d blocks of %d threads per multiprocessor (%.0f %%)",
+                per_sm, block,
+                max_threads > 0 ? 100.0 * per_sm * block / max_threads : 0.0);
+    fputc('\n', out);
+}
+
 static void cr_gpu_print_device(FILE *out, int d)
 {
     cudaDeviceProp p;
@@ -313,6 +356,8 @@ static void cr_gpu_print_device(FILE *out, int d)
     cr_gpu_line(out, "Max. grid dimensions:", "(%d,%d,%d)", p.maxGridSize[0], p.maxGridSize[1],
                 p.maxGridSize[2]);
     fputc('\n', out);
+    if (usable)
+        cr_gpu_print_kernel(out, d);
 }
 
 extern "C" void cr_gpu_print_info(FILE *out)
@@ -356,6 +401,325 @@ extern "C" void cr_gpu_print_info(FILE *out)
 
 /* ---- rendering ---------------------------------------------------------- */
 
+/* Frames in flight at once in a session: one traced while the host writes
+ * the other. */
+#define CR_GPU_SLOTS 2
+
+/* One frame in flight: its pinned result, its staged spheres and the events
+ * that mark its progress on the stream. */
+typedef struct cr_gpu_slot {
+    cr_pixel *px;          /* pinned, max_pixels; NULL until first used */
+    cr_sphere *spheres;    /* pinned staging of the frame's spheres */
+    int sphere_cap;        /* spheres[] capacity */
+    cudaEvent_t start;     /* before the frame's work (timing) */
+    cudaEvent_t end;       /* after its pixel copy (timing, blocking sync) */
+    cudaEvent_t *chunk;    /* after each chunk of rows (blocking sync) */
+    int *chunk_row_end;    /* rows finished when chunk[c] has completed */
+    int chunk_cap;         /* events created in chunk[] */
+    int n_chunks;          /* chunks of the frame in flight */
+    int height;
+} cr_gpu_slot;
+
+struct cr_gpu_session {
+    int device;
+    size_t max_pixels;
+    cudaStream_t stream;
+    int stream_made;
+    int block, per_sm, sms; /* launch configuration, queried once */
+    cr_pixel *d_out;        /* max_pixels; frames in flight take turns (stream order) */
+    cr_sphere *d_spheres;
+    int d_sphere_cap;
+    uint8_t *d_sky;         /* the uploaded sky texture */
+    size_t d_sky_cap;       /* bytes allocated at d_sky */
+    const uint8_t *sky_host; /* which texture d_sky holds: host pointer, width, height */
+    int sky_w, sky_h;
+    int *abort_host;        /* pinned, mapped: non-zero makes queued blocks return */
+    int *abort_dev;         /* the same int as the device sees it */
+    cr_gpu_slot slot[CR_GPU_SLOTS];
+    long long launched, waited; /* frames; slot of frame n is n % CR_GPU_SLOTS */
+};
+
+/* Rows per kernel launch for frames `width` pixels wide: a few waves of
+ * pixels, whole tiles, at most `height` and within the grid's y limit. */
+static int cr_gpu_rows_per_launch(const cr_gpu_session *s, int width, int height)
+{
+    int tile_h = s->block / CR_GPU_TILE_W, rows;
+    long long wave = (long long)(s->per_sm > 0 ? s->per_sm : 1) * (s->sms > 0 ? s->sms : 1) *
+                     s->block;
+    rows = (int)((CR_GPU_WAVES_PER_LAUNCH * wave + width - 1) / width);
+    rows += tile_h - 1;
+    rows -= rows % tile_h;
+    if (rows < tile_h)
+        rows = tile_h;
+    if (rows > 65535 * tile_h)
+        rows = 65535 * tile_h;
+    if (rows > height)
+        rows = height;
+    return rows;
+}
+
+/* Stop every frame in flight: queued blocks see the abort flag and return;
+ * then the flag is cleared for the next launch. Returns 0, or -1 with err
+ * set when the stream reports an error. */
+static int cr_gpu_session_abort(cr_gpu_session *s, cr_err *err)
+{
+    int rc = 0;
+    if (s->launched == s->waited)
+        return 0;
+    *(volatile int *)s->abort_host = 1;
+    rc = CR_CUDA_TRY(cudaStreamSynchronize(s->stream));
+    *(volatile int *)s->abort_host = 0;
+    s->waited = s->launched;
+    return rc;
+}
+
+extern "C" void cr_gpu_session_free(cr_gpu_session *s)
+{
+    cr_err ignored;
+    int k, c;
+    if (!s)
+        return;
+    /* after a failed kernel the context may be unusable; these calls then
+     * fail too, and the first error is the one already reported */
+    cudaSetDevice(s->device);
+    if (s->abort_host)
+        cr_gpu_session_abort(s, &ignored);
+    for (k = 0; k < CR_GPU_SLOTS; k++) {
+        cr_gpu_slot *sl = &s->slot[k];
+        cudaFreeHost(sl->px);
+        cudaFreeHost(sl->spheres);
+        if (sl->start)
+            cudaEventDestroy(sl->start);
+        if (sl->end)
+            cudaEventDestroy(sl->end);
+        for (c = 0; c < sl->chunk_cap; c++)
+            cudaEventDestroy(sl->chunk[c]);
+        free(sl->chunk);
+        free(sl->chunk_row_end);
+    }
+    cudaFree(s->d_out);
+    cudaFree(s->d_spheres);
+    cudaFree(s->d_sky);
+    cudaFreeHost(s->abort_host);
+    if (s->stream_made)
+        cudaStreamDestroy(s->stream);
+    cudaGetLastError();
+    free(s);
+}
+
+extern "C" cr_gpu_session *cr_gpu_session_create(int device, size_t max_pixels, cr_err *err)
+{
+    cr_gpu_session *s;
+    int min_grid = 0, k;
+    if (max_pixels == 0) {
+        cr_err_set(err, "cr_gpu_session_create: no pixels");
+        return NULL;
+    }
+    if (!cr_gpu_usable(device, err))
+        return NULL;
+    s = (cr_gpu_session *)calloc(1, sizeof *s);
+    if (!s) {
+        cr_err_set(err, "out of memory");
+        return NULL;
+    }
+    s->device = device;
+    s->max_pixels = max_pixels;
+    CR_CUDA_CHECK_GOTO(cudaSetDevice(device));
+    /* Launch configuration: the block size of best occupancy, shaped as
+     * tiles CR_GPU_TILE_W pixels wide. */
+    CR_CUDA_CHECK_GOTO(
+        cudaOccupancyMaxPotentialBlockSize(&min_grid, &s->block, cr_gpu_trace_kernel, 0, 0));
+    s->block -= s->block % 32;
+    if (s->block < 32)
+        s->block = 32;
+    CR_CUDA_CHECK_GOTO(cudaOccupancyMaxActiveBlocksPerMultiprocessor(
+        &s->per_sm, cr_gpu_trace_kernel, s->block, 0));
+    CR_CUDA_CHECK_GOTO(cudaDeviceGetAttribute(&s->sms, cudaDevAttrMultiProcessorCount, device));
+    CR_CUDA_CHECK_GOTO(cudaStreamCreateWithFlags(&s->stream, cudaStreamNonBlocking));
+    s->stream_made = 1;
+    CR_CUDA_CHECK_GOTO(cudaMalloc((void **)&s->d_out, sizeof(cr_pixel) * max_pixels));
+    CR_CUDA_CHECK_GOTO(cudaHostAlloc((void **)&s->abort_host, sizeof(int), cudaHostAllocMapped));
+    *s->abort_host = 0;
+    CR_CUDA_CHECK_GOTO(cudaHostGetDevicePointer((void **)&s->abort_dev, s->abort_host, 0));
+    for (k = 0; k < CR_GPU_SLOTS; k++) {
+        CR_CUDA_CHECK_GOTO(cudaEventCreateWithFlags(&s->slot[k].start, cudaEventDefault));
+        CR_CUDA_CHECK_GOTO(cudaEventCreateWithFlags(&s->slot[k].end, cudaEventBlockingSync));
+    }
+    return s;
+fail:
+    cr_gpu_session_free(s);
+    return NULL;
+}
+
+/* Make the device hold f's sky texture (see cr_gpu_session_launch). */
+static int cr_gpu_session_sky(cr_gpu_session *s, const cr_frame *f, cr_err *err)
+{
+    size_t bytes;
+    if (!f->sky.rgb || (f->sky.rgb == s->sky_host && f->sky.width == s->sky_w &&
+                        f->sky.height == s->sky_h))
+        return 0;
+    bytes = (size_t)3 * (size_t)f->sky.width * (size_t)f->sky.height;
+    /* frames in flight may still read the texture held now */
+    CR_CUDA_CHECK(cudaStreamSynchronize(s->stream));
+    s->sky_host = NULL;
+    if (bytes > s->d_sky_cap) {
+        CR_CUDA_CHECK(cudaFree(s->d_sky));
+        s->d_sky = NULL;
+        s->d_sky_cap = 0;
+        CR_CUDA_CHECK(cudaMalloc((void **)&s->d_sky, bytes));
+        s->d_sky_cap = bytes;
+    }
+    /* on the session's stream, so the kernels that follow see all of it (a
+     * plain cudaMemcpy from pageable memory may return before its DMA ends,
+     * and the stream does not wait for the legacy default stream) */
+    CR_CUDA_CHECK(
+        cudaMemcpyAsync(s->d_sky, f->sky.rgb, bytes, cudaMemcpyHostToDevice, s->stream));
+    s->sky_host = f->sky.rgb;
+    s->sky_w = f->sky.width;
+    s->sky_h = f->sky.height;
+    return 0;
+}
+
+/* Give slot sl room for n spheres (pinned) and n_chunks chunk events, and
+ * the device room for n spheres. */
+static int cr_gpu_session_room(cr_gpu_session *s, cr_gpu_slot *sl, int n, int n_chunks,
+                               cr_err *err)
+{
+    if (n > sl->sphere_cap) {
+        CR_CUDA_CHECK(cudaFreeHost(sl->spheres));
+        sl->spheres = NULL;
+        sl->sphere_cap = 0;
+        CR_CUDA_CHECK(cudaMallocHost((void **)&sl->spheres, sizeof(cr_sphere) * n));
+        sl->sphere_cap = n;
+    }
+    if (n > s->d_sphere_cap) {
+        /* the frame in flight may still read the old array */
+        CR_CUDA_CHECK(cudaStreamSynchronize(s->stream));
+        CR_CUDA_CHECK(cudaFree(s->d_spheres));
+        s->d_spheres = NULL;
+        s->d_sphere_cap = 0;
+        CR_CUDA_CHECK(cudaMalloc((void **)&s->d_spheres, sizeof(cr_sphere) * n));
+        s->d_sphere_cap = n;
+    }
+    if (n_chunks > sl->chunk_cap) {
+        cudaEvent_t *ev = (cudaEvent_t *)realloc(sl->chunk, sizeof *ev * n_chunks);
+        int *rows;
+        if (ev)
+            sl->chunk = ev;
+        rows = ev ? (int *)realloc(sl->chunk_row_end, sizeof *rows * n_chunks) : NULL;
+        if (!rows)
+            return cr_err_set(err, "out of memory");
+        sl->chunk_row_end = rows;
+        while (sl->chunk_cap < n_chunks) {
+            CR_CUDA_CHECK(cudaEventCreateWithFlags(&sl->chunk[sl->chunk_cap],
+                                                   cudaEventBlockingSync |
+                                                       cudaEventDisableTiming));
+            sl->chunk_cap++;
+        }
+    }
+    return 0;
+}
+
+extern "C" int cr_gpu_session_launch(cr_gpu_session *s, const cr_frame *f, cr_err *err)
+{
+    cr_gpu_slot *sl;
+    cr_frame df;
+    dim3 threads, blocks;
+    int rows, n_chunks, row0, c;
+    if (!s)
+        return cr_err_set(err, "cr_gpu_session_launch: no session");
+    if (!f || f->width <= 0 || f->height <= 0)
+        return cr_err_set(err, "cr_gpu_render: empty frame");
+    if ((size_t)f->width * (size_t)f->height > s->max_pixels)
+        return cr_err_set(err, "cr_gpu_render: a %dx%d frame is larger than the session's %zu "
+                               "pixels",
+                          f->width, f->height, s->max_pixels);
+    if (f->n_spheres < 0 || (f->n_spheres > 0 && !f->spheres))
+        return cr_err_set(err, "cr_gpu_render: frame without its sphere array");
+    if (f->sky.rgb && (f->sky.width <= 0 || f->sky.height <= 0))
+        return cr_err_set(err, "cr_gpu_render: sky texture without a size");
+    if (s->launched - s->waited >= CR_GPU_SLOTS)
+        return cr_err_set(err, "cr_gpu_session_launch: %d frames are in flight already",
+                          CR_GPU_SLOTS);
+    sl = &s->slot[s->launched % CR_GPU_SLOTS];
+    rows = cr_gpu_rows_per_launch(s, f->width, f->height);
+    n_chunks = (f->height + rows - 1) / rows;
+
+    CR_CUDA_CHECK(cudaSetDevice(s->device));
+    if (cr_gpu_session_sky(s, f, err) || cr_gpu_session_room(s, sl, f->n_spheres, n_chunks, err))
+        return -1;
+    if (!sl->px)
+        CR_CUDA_CHECK(cudaMallocHost((void **)&sl->px, sizeof(cr_pixel) * s->max_pixels));
+
+    CR_CUDA_CHECK(cudaEventRecord(sl->start, s->stream));
+    df = *f;
+    if (f->n_spheres > 0) {
+        memcpy(sl->spheres, f->spheres, sizeof(cr_sphere) * f->n_spheres);
+        CR_CUDA_CHECK(cudaMemcpyAsync(s->d_spheres, sl->spheres,
+                                      sizeof(cr_sphere) * f->n_spheres, cudaMemcpyHostToDevice,
+                                      s->stream));
+    }
+    df.spheres = f->n_spheres > 0 ? s->d_spheres : NULL;
+    df.sky.rgb = f->sky.rgb ? s->d_sky : NULL;
+
+    threads = dim3(CR_GPU_TILE_W, (unsigned)(s->block / CR_GPU_TILE_W), 1);
+    for (row0 = 0, c = 0; row0 < f->height; row0 += rows, c++) {
+        int row_end = row0 + rows < f->height ? row0 + rows : f->height;
+        blocks = dim3((unsigned)((f->width + CR_GPU_TILE_W - 1) / CR_GPU_TILE_W),
+                      (unsigned)((row_end - row0 + (int)threads.y - 1) / (int)threads.y), 1);
+        cr_gpu_trace_kernel<<<blocks, threads, 0, s->stream>>>(df, s->d_out, row0, row_end,
+                                                               s->abort_dev);
+        CR_CUDA_CHECK(cudaGetLastError());
+        CR_CUDA_CHECK(cudaEventRecord(sl->chunk[c], s->stream));
+        sl->chunk_row_end[c] = row_end;
+    }
+    CR_CUDA_CHECK(cudaMemcpyAsync(sl->px, s->d_out,
+                                  sizeof(cr_pixel) * (size_t)f->width * (size_t)f->height,
+                                  cudaMemcpyDeviceToHost, s->stream));
+    CR_CUDA_CHECK(cudaEventRecord(sl->end, s->stream));
+    sl->n_chunks = n_chunks;
+    sl->height = f->height;
+    s->launched++;
+    return 0;
+}
+
+extern "C" const cr_pixel *cr_gpu_session_wait(cr_gpu_session *s, cr_gpu_progress_fn progress,
+                                               cr_gpu_cancel_fn cancelled, void *ctx,
+                                               double *seconds, cr_err *err)
+{
+    cr_gpu_slot *sl;
+    float ms = 0.0f;
+    int c;
+    if (!s || s->launched == s->waited) {
+        cr_err_set(err, "cr_gpu_session_wait: no frame in flight");
+        return NULL;
+    }
+    sl = &s->slot[s->waited % CR_GPU_SLOTS];
+    if (CR_CUDA_TRY(cudaSetDevice(s->device)))
+        return NULL;
+    /* asked before each chunk and after the last */
+    for (c = 0; c <= sl->n_chunks; c++) {
+        if (cancelled && cancelled(ctx)) {
+            cr_gpu_session_abort(s, err);
+            cr_err_set(err, "interrupted");
+            return NULL;
+        }
+        if (c == sl->n_chunks)
+            break;
+        if (CR_CUDA_TRY(cudaEventSynchronize(sl->chunk[c])))
+            return NULL;
+        if (progress)
+            progress(ctx, sl->chunk_row_end[c], sl->height);
+    }
+    if (CR_CUDA_TRY(cudaEventSynchronize(sl->end)) ||
+        CR_CUDA_TRY(cudaEventElapsedTime(&ms, sl->start, sl->end)))
+        return NULL;
+    if (seconds)
+        *seconds = 1e-3 * (double)ms;
+    s->waited++;
+    return sl->px;
+}
+
 extern "C" int cr_gpu_render(int device, const cr_frame *f, cr_pixel *out, cr_err *err)
 {
     return cr_gpu_render_ex(device, f, out, NULL, NULL, NULL, err);
@@ -365,94 +729,17 @@ extern "C" int cr_gpu_render_ex(int device, const cr_frame *f, cr_pixel *out,
                                 cr_gpu_progress_fn progress, cr_gpu_cancel_fn cancelled,
                                 void *ctx, cr_err *err)
 {
-    cr_frame df;
-    cr_frame *d_frame = NULL;
-    cr_sphere *d_spheres = NULL;
-    uint8_t *d_sky = NULL;
-    cr_pixel *d_out = NULL;
-    size_t n_pix, sky_bytes = 0;
-    int min_grid = 0, block = 0, per_sm = 0, sms = 0, rows_per_launch, row0;
-    long long wave;
-    dim3 threads, blocks;
-    int rc = -1;
-
+    cr_gpu_session *s;
+    const cr_pixel *px = NULL;
     if (!f || !out || f->width <= 0 || f->height <= 0)
         return cr_err_set(err, "cr_gpu_render: empty frame");
-    if (f->n_spheres < 0 || (f->n_spheres > 0 && !f->spheres))
-        return cr_err_set(err, "cr_gpu_render: frame without its sphere array");
-    if (f->sky.rgb && (f->sky.width <= 0 || f->sky.height <= 0))
-        return cr_err_set(err, "cr_gpu_render: sky texture without a size");
-    if (!cr_gpu_usable(device, err))
+    s = cr_gpu_session_create(device, (size_t)f->width * (size_t)f->height, err);
+    if (!s)
         return -1;
-    n_pix = (size_t)f->width * (size_t)f->height;
-
-    CR_CUDA_CHECK(cudaSetDevice(device));
-
-    /* Launch configuration: the block size of best occupancy, shaped as
-     * tiles CR_GPU_TILE_W pixels wide. */
-    CR_CUDA_CHECK(cudaOccupancyMaxPotentialBlockSize(&min_grid, &block, cr_gpu_trace_kernel, 0, 0));
-    block -= block % 32;
-    if (block < 32)
-        block = 32;
-    CR_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, cr_gpu_trace_kernel,
-                                                                block, 0));
-    CR_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
-    threads = dim3(CR_GPU_TILE_W, (unsigned)(block / CR_GPU_TILE_W), 1);
-    wave = (long long)(per_sm > 0 ? per_sm : 1) * (sms > 0 ? sms : 1) * block;
-    /* rows per launch: a few waves of pixels, whole tiles, at most the frame
-     * and within the grid's y limit */
-    rows_per_launch = (int)((CR_GPU_WAVES_PER_LAUNCH * wave + f->width - 1) / f->width);
-    rows_per_launch += (int)threads.y - 1;
-    rows_per_launch -= rows_per_launch % (int)threads.y;
-    if (rows_per_launch < (int)threads.y)
-        rows_per_launch = (int)threads.y;
-    if (rows_per_launch > 65535 * (int)threads.y)
-        rows_per_launch = 65535 * (int)threads.y;
-    if (rows_per_launch > f->height)
-        rows_per_launch = f->height;
-
-    /* the frame with device pointers, its spheres and sky, once per call */
-    df = *f;
-    CR_CUDA_CHECK_GOTO(cudaMalloc((void **)&d_frame, sizeof df));
-    if (f->n_spheres > 0) {
-        CR_CUDA_CHECK_GOTO(cudaMalloc((void **)&d_spheres, sizeof(cr_sphere) * f->n_spheres));
-        CR_CUDA_CHECK_GOTO(cudaMemcpy(d_spheres, f->spheres, sizeof(cr_sphere) * f->n_spheres,
-                                      cudaMemcpyHostToDevice));
-    }
-    df.spheres = d_spheres;
-    if (f->sky.rgb) {
-        sky_bytes = (size_t)3 * (size_t)f->sky.width * (size_t)f->sky.height;
-        CR_CUDA_CHECK_GOTO(cudaMalloc((void **)&d_sky, sky_bytes));
-        CR_CUDA_CHECK_GOTO(cudaMemcpy(d_sky, f->sky.rgb, sky_bytes, cudaMemcpyHostToDevice));
-    }
-    df.sky.rgb = d_sky;
-    CR_CUDA_CHECK_GOTO(cudaMemcpy(d_frame, &df, sizeof df, cudaMemcpyHostToDevice));
-    CR_CUDA_CHECK_GOTO(cudaMalloc((void **)&d_out, sizeof(cr_pixel) * n_pix));
-
-    for (row0 = 0; row0 < f->height; row0 += rows_per_launch) {
-        int row_end = row0 + rows_per_launch < f->height ? row0 + rows_per_launch : f->height;
-        blocks = dim3((unsigned)((f->width + CR_GPU_TILE_W - 1) / CR_GPU_TILE_W),
-                      (unsigned)((row_end - row0 + (int)threads.y - 1) / (int)threads.y), 1);
-        cr_gpu_trace_kernel<<<blocks, threads>>>(d_frame, d_out, row0, row_end);
-        CR_CUDA_CHECK_GOTO(cudaGetLastError());
-        CR_CUDA_CHECK_GOTO(cudaDeviceSynchronize());
-        if (progress)
-            progress(ctx, row_end, f->height);
-        if (cancelled && cancelled(ctx)) {
-            cr_err_set(err, "interrupted");
-            goto fail;
-        }
-    }
-    CR_CUDA_CHECK_GOTO(cudaMemcpy(out, d_out, sizeof(cr_pixel) * n_pix, cudaMemcpyDeviceToHost));
-    rc = 0;
-
-fail:
-    /* after a failed kernel the context may be unusable; freeing then fails
-     * too, and the first error is the one reported */
-    cudaFree(d_out);
-    cudaFree(d_sky);
-    cudaFree(d_spheres);
-    cudaFree(d_frame);
-    cudaGetLastError();
-    return rc;
+    if (cr_gpu_session_launch(s, f, err) == 0)
+        px = cr_gpu_session_wait(s, progress, cancelled, ctx, NULL, err);
+    if (px)
+        memcpy(out, px, sizeof(cr_pixel) * (size_t)f->width * (size_t)f->height);
+    cr_gpu_session_free(s);
+    return px ? 0 : -1;
 }

@@ -70,7 +70,8 @@ void cr_gpu_print_info(FILE *out);
 /* Trace every pixel of the prepared frame f on device `device` into
  * out[j * width + i], exactly as cr_cpu_render does on the host: the frame,
  * spheres and sky texture are copied to the device, the kernel runs
- * cr_trace_pixel per pixel, the pixels come back. Selects `device` for the
+ * cr_trace_pixel per pixel, the pixels come back (a session of one frame;
+ * for many frames, keep a cr_gpu_session instead). Selects `device` for the
  * calling thread (cudaSetDevice). Returns 0, or -1 with a message naming the
  * failing CUDA call, file and line; device memory is freed on every path. */
 int cr_gpu_render(int device, const cr_frame *f, cr_pixel *out, cr_err *err);
@@ -83,6 +84,55 @@ int cr_gpu_render(int device, const cr_frame *f, cr_pixel *out, cr_err *err);
  * "interrupted". */
 int cr_gpu_render_ex(int device, const cr_frame *f, cr_pixel *out, cr_gpu_progress_fn progress,
                      cr_gpu_cancel_fn cancelled, void *ctx, cr_err *err);
+
+/* ---- a session: one device for a whole run ------------------------------ */
+
+/* A device set up once for many frames (issue 11 item 8): its stream, launch
+ * configuration, pixel buffer, spheres and sky texture stay for the session,
+ * and a frame is traced asynchronously while the host writes the previous
+ * one. Two frames may be in flight; their results land in two pinned host
+ * buffers (allocated at the first launch that uses each). Device memory and
+ * pinned memory are freed by cr_gpu_session_free only. A session belongs to
+ * one host thread at a time; every call selects its device for that thread
+ * (cudaSetDevice). */
+typedef struct cr_gpu_session cr_gpu_session;
+
+/* Check that `device` can be used, select it, query the launch
+ * configuration and allocate the device's pixel buffer for frames of up to
+ * max_pixels pixels (width * height). Returns the session, or NULL with err
+ * set (nothing left allocated). */
+cr_gpu_session *cr_gpu_session_create(int device, size_t max_pixels, cr_err *err);
+
+/* Start tracing the prepared frame f, asynchronously. Copies what the device
+ * lacks: the sky texture when f->sky.rgb, its width or height differ from
+ * the last one uploaded (a texture must not change under the same pointer
+ * and size during the session; replacing it waits for the frames in flight),
+ * and the spheres (copied from f->spheres before the call returns, so the
+ * caller may reuse that array at once). The frame itself is a kernel
+ * argument. The kernel is queued in chunks of rows (a few waves of the
+ * device each), then the copy of the pixels into the frame's pinned buffer.
+ * At most two frames may be in flight (launched and not yet waited for).
+ * Returns 0, or -1 with err set. */
+int cr_gpu_session_launch(cr_gpu_session *s, const cr_frame *f, cr_err *err);
+
+/* Wait for the oldest frame in flight. After each chunk of rows progress
+ * (may be NULL) is called with the rows finished, then cancelled(ctx) (may
+ * be NULL) is asked: non-zero stops every frame in flight (their remaining
+ * blocks return at once), leaves the session idle and usable, and returns
+ * NULL with "interrupted". *seconds (may be NULL) receives the frame's time
+ * on the device's stream, from the end of the work queued before it to the
+ * end of its pixel copy. Returns the frame's width * height pixels in pinned
+ * host memory, row-major as cr_gpu_render writes them, valid until the
+ * second cr_gpu_session_launch after the one that started this frame (so
+ * the next frame may be launched while the caller reads this one); or NULL
+ * with err set (a CUDA error; the session may then be unusable). */
+const cr_pixel *cr_gpu_session_wait(cr_gpu_session *s, cr_gpu_progress_fn progress,
+                                    cr_gpu_cancel_fn cancelled, void *ctx, double *seconds,
+                                    cr_err *err);
+
+/* Stop the frames in flight (as a cancel does), then free the session's
+ * device and pinned memory, stream and events. NULL is ignored. */
+void cr_gpu_session_free(cr_gpu_session *s);
 
 #ifdef __cplusplus
 }

@@ -53,3 +53,36 @@ int cr_gpu_render_ex(int device, const cr_frame *f, cr_pixel *out, cr_gpu_progre
     (void)ctx;
     return cr_err_set(err, CR_GPU_NO_CUDA);
 }
+
+cr_gpu_session *cr_gpu_session_create(int device, size_t max_pixels, cr_err *err)
+{
+    (void)device;
+    (void)max_pixels;
+    cr_err_set(err, CR_GPU_NO_CUDA);
+    return NULL;
+}
+
+int cr_gpu_session_launch(cr_gpu_session *s, const cr_frame *f, cr_err *err)
+{
+    (void)s;
+    (void)f;
+    return cr_err_set(err, CR_GPU_NO_CUDA);
+}
+
+const cr_pixel *cr_gpu_session_wait(cr_gpu_session *s, cr_gpu_progress_fn progress,
+                                    cr_gpu_cancel_fn cancelled, void *ctx, double *seconds,
+                                    cr_err *err)
+{
+    (void)s;
+    (void)progress;
+    (void)cancelled;
+    (void)ctx;
+    (void)seconds;
+    cr_err_set(err, CR_GPU_NO_CUDA);
+    return NULL;
+}
+
+void cr_gpu_session_free(cr_gpu_session *s)
+{
+    (void)s;
+}

@@ -1,0 +1,210 @@
+#!/usr/bin/env bash
+# tools/gpu-check.sh: the GPU checks of curray in one prepared script, for a
+# session that is lent a GPU machine (the device tool: /work/.library/device/).
+# That machine has no package registry and no libpng/libyaml/libcmocka, so
+# everything is built HERE, statically for sm_90 (H100/H200), and carried.
+#
+#   1. Here (no GPU needed, ~5-10 min on 2 cores):
+#        tools/gpu-check.sh build
+#      builds build-gpu-check/{default,r128,r64} (curray; default also
+#      test_backends, with libcmocka copied into build-gpu-check/lib) with
+#      CURRAY_STATIC=ON, CURRAY_CUDA_ARCHS=90 and CURRAY_CUDA_MAXRREG
+#      "" / 128 / 64.
+#   2. On the GPU machine, ONE device-tool call:
+#        run(command="tools/gpu-check.sh run", carry=["build-gpu-check"],
+#            timeout_s=560)
+#      It writes under $OUT (at most 8 files come back): summary.txt (the
+#      short table, also printed last), ctest.log, bench.md (every benchmark
+#      table) and gpu-check.tar.gz (every log, CSV and info.txt). Budget about
+#      8 minutes; every stage has its own `timeout`, so a slow stage is cut
+#      off and the rest still runs. Then call give_back.
+#
+# What `run` does, in order (times are estimates; nothing here has run on a
+# GPU yet):
+#   a. curray -i for each variant (device, registers and local memory per
+#      thread and occupancy as the CUDA runtime reports them)      ~10 s
+#   b. ctest -L gpu --output-on-failure (test_backends: every case and scene,
+#      CPU against GPU, under mino and rk4)                        ~1-2 min
+#   c. the CLI through the per-run session: a 3-frame render of scenes/demo.yml
+#      on the CPU and on the GPU, with mino and with rk4, compared pixel by
+#      pixel (outcome and colour, d_<k>.csv); and 12 frames of kerr-disc at
+#      1024x1024 written as PNG+CSV, to see tracing overlap writing   ~1 min
+#   d. bench/run.sh --backend cuda on the 4 bench scenes, 512/1024/2048, 3 runs
+#                                                                   ~2 min
+#   e. Mino vs rk4 on the GPU: bench/run.sh with bench/scenes/mino.yml and
+#      rk4.yml on kerr-disc and kerrz-disc at 1024                  ~1 min
+#   f. the register-cap variants r128 and r64: bench/run.sh at 1024, 3 runs
+#                                                                   ~1 min
+set -uo pipefail
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+bdir=$root/build-gpu-check
+
+build_variant() { # NAME MAXRREG TARGETS...
+    local name=$1 rreg=$2
+    shift 2
+    cmake -S "$root" -B "$bdir/$name" -DCMAKE_BUILD_TYPE=Release -DCURRAY_STATIC=ON \
+        -DCURRAY_CUDA_ARCHS=90 -DCURRAY_CUDA_MAXRREG="$rreg" -DCURRAY_CUDA_PTXAS_VERBOSE=ON \
+        -DCURRAY_TESTS=ON >"$bdir/$name.cmake.log" 2>&1 || {
+        cat "$bdir/$name.cmake.log"
+        return 1
+    }
+    cmake --build "$bdir/$name" -j"$(nproc 2>/dev/null || echo 2)" --target "$@" \
+        >"$bdir/$name.build.log" 2>&1 || {
+        tail -40 "$bdir/$name.build.log"
+        return 1
+    }
+    grep -A3 "entry function '_Z19cr_gpu_trace_kernel" "$bdir/$name.build.log" | head -4
+    # only what the checks use travels: drop objects and other build output
+    find "$bdir/$name" -name '*.o' -delete
+}
+
+cmd_build() {
+    command -v nvcc >/dev/null || [ -x /usr/local/cuda/bin/nvcc ] || {
+        echo "gpu-check: no nvcc here" >&2
+        exit 1
+    }
+    mkdir -p "$bdir/lib"
+    build_variant default "" curray test_backends || exit 1
+    build_variant r128 128 curray || exit 1
+    build_variant r64 64 curray || exit 1
+    # test_backends links libcmocka.so.0 dynamically (Debian ships no .a)
+    cp -L "$(ldconfig -p | awk '/libcmocka\.so\.0 / {print $NF; exit}')" "$bdir/lib/" || exit 1
+    du -sh "$bdir"
+    echo "gpu-check: built; now, with a GPU lent:"
+    echo '  run(command="tools/gpu-check.sh run", carry=["build-gpu-check"], timeout_s=560)'
+}
+
+# ---- on the GPU machine -------------------------------------------------------
+
+stage() { # NAME SECONDS COMMAND...: run with a time limit, log to $work/NAME.log
+    local name=$1 secs=$2 t0 rc
+    shift 2
+    t0=$(date +%s)
+    echo "== $name ($(date +%T), limit ${secs}s): $*" | tee -a "$work/stages.log"
+    # shell functions run in a child bash (exported below), so timeout can stop them
+    timeout -k 5 "$secs" bash -c '"$@"' stage "$@" >"$work/$name.log" 2>&1
+    rc=$?
+    echo "   $name: exit $rc in $(($(date +%s) - t0)) s" | tee -a "$work/stages.log"
+    return $rc
+}
+
+# d_<k>.csv of two renders: pixels whose outcome or colour differ
+csv_diff() {
+    awk -F, 'NR == FNR { if (FNR > 1) a[$1 "," $2] = $3 "," $4 "," $5 "," $10; next }
+             FNR > 1 { n++; if (a[$1 "," $2] != $3 "," $4 "," $5 "," $10) d++ }
+             END { printf "%d of %d pixels differ (%.4f %%)\n", d, n, n ? 100 * d / n : 0 }' "$1" "$2"
+}
+
+cli_compare() { # the CLI on CPU and GPU, 3 frames, each integrator
+    local integ k
+    for integ in mino rk4; do
+        for be in cpu cuda; do
+            "$bdir/default/curray" -s "$root/scenes/demo.yml" -c "$root/bench/scenes/$integ.yml" \
+                -o "$work/cli-$integ-$be" -x 160 -y 120 -f 3 -t crdi -a true --backend "$be" ||
+                return 1
+        done
+        for k in 0 1 2; do
+            echo -n "$integ frame $k, CPU vs GPU: "
+            csv_diff "$work/cli-$integ-cpu/d_$k.csv" "$work/cli-$integ-cuda/d_$k.csv"
+        done
+        grep -E "^  wall time" "$work/cli-$integ-cuda/info.txt" | head -3
+    done
+}
+
+cli_overlap() { # 12 frames written as PNG and CSV: is the GPU kept busy?
+    "$bdir/default/curray" -s "$root/bench/scenes/kerr-disc.yml" \
+        -c "$root/bench/scenes/defaults.yml" -o "$work/overlap" -x 1024 -y 1024 -f 12 \
+        -t crdi -a true --backend cuda || return 1
+    awk '/^  wall time/ {s += $3; n++} END {printf "sum of the %d frames'"'"' GPU times: %.2f s\n", n, s}' \
+        "$work/overlap/info.txt"
+    rm -f "$work"/overlap/*.csv "$work"/overlap/*.png
+}
+
+bench_run() { # VARIANT OUTNAME ARGS...
+    local v=$1 name=$2
+    shift 2
+    CURRAY_BIN=$bdir/$v/curray CURRAY_BENCH_OFFLINE=1 "$root/bench/run.sh" --backend cuda \
+        --out "$work/bench-$name" "$@"
+}
+
+cmd_run() {
+    : "${OUT:?gpu-check run: OUT is not set (run it through the device tool)}"
+    [ -x "$bdir/default/curray" ] || {
+        echo "gpu-check: no $bdir/default/curray: run 'tools/gpu-check.sh build' here first" >&2
+        exit 1
+    }
+    work=$(mktemp -d /tmp/gpu-check.XXXXXX)
+    export root bdir work
+    export -f csv_diff cli_compare cli_overlap bench_run
+    shopt -s nullglob
+    export LD_LIBRARY_PATH=$bdir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+    # the build's CTest files and test_backends (CR_SOURCE_DIR) name the folder
+    # it was built in: make that path lead here when the checkout lies elsewhere
+    local src
+    src=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$bdir/default/CMakeCache.txt")
+    if [ -n "$src" ] && [ "$src" != "$root" ] && [ ! -e "$src" ]; then
+        mkdir -p "$(dirname "$src")" && ln -s "$root" "$src"
+    fi
+    {
+        echo "gpu-check on $(hostname) at $(date -u +%FT%TZ), checkout $(git -C "$root" rev-parse --short HEAD 2>/dev/null)"
+        nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.mem,temperature.gpu --format=csv 2>&1
+    } >"$work/summary.txt"
+
+    local v
+    for v in default r128 r64; do
+        [ -x "$bdir/$v/curray" ] || continue
+        echo "--- $v" >>"$work/info.log"
+        timeout 60 "$bdir/$v/curray" -i >>"$work/info.log" 2>&1
+    done
+    stage ctest 240 ctest --test-dir "$bdir/default" -L gpu --output-on-failure -V
+    cp "$work/ctest.log" "$OUT/ctest.log" 2>/dev/null
+    stage cli-compare 120 cli_compare
+    stage cli-overlap 90 cli_overlap
+    stage bench-default 200 bench_run default all --sizes "512 1024 2048" --runs 3
+    stage mino-rk4-mino 60 bench_run default mino --scenes "kerr-disc kerrz-disc" --sizes 1024 \
+        --runs 3 --config "$root/bench/scenes/mino.yml"
+    stage mino-rk4-rk4 90 bench_run default rk4 --scenes "kerr-disc kerrz-disc" --sizes 1024 \
+        --runs 3 --config "$root/bench/scenes/rk4.yml"
+    for v in r128 r64; do
+        [ -x "$bdir/$v/curray" ] && stage "bench-$v" 90 bench_run "$v" "$v" --sizes 1024 --runs 3
+    done
+
+    for f in "$work"/bench-*.log "$work"/mino-rk4-*.log; do
+        [ -f "$f" ] && { echo "### $(basename "$f" .log)"; sed -n '/^## curray benchmark/,$p' "$f"; echo; }
+    done >"$OUT/bench.md"
+    {
+        echo
+        echo "kernel resources (curray -i):"
+        grep -E "^--- |^Name:|^Can be used|^Kernel|^No CUDA" "$work/info.log"
+        echo
+        echo "stages:"
+        cat "$work/stages.log"
+        echo
+        echo "test_backends:"
+        grep -E "PASSED|FAILED|SKIPPED|worst|mismatch" "$work/ctest.log" | head -30
+        echo
+        echo "CLI, CPU vs GPU and overlap:"
+        cat "$work/cli-compare.log" "$work/cli-overlap.log" 2>/dev/null | grep -vE "^\s*$" |
+            grep -E "differ|wall time|sum of|done:" | head -20
+        echo
+        echo "benchmarks (frame time median, ns/step):"
+        for f in "$work"/bench-*.csv; do
+            case $f in *-runs.csv) continue ;; esac
+            echo "# $(basename "$f" .csv)"
+            cat "$f"
+        done
+    } >>"$work/summary.txt"
+    cp "$work/summary.txt" "$OUT/summary.txt"
+    tar -czf "$OUT/gpu-check.tar.gz" -C "$work" --exclude='*.png' --exclude='d_*.csv' . 2>/dev/null
+    cat "$work/summary.txt"
+}
+
+case ${1:-} in
+build) cmd_build ;;
+run) cmd_run ;;
+*)
+    sed -n '2,40p' "$0" | sed 's/^# \{0,1\}//'
+    exit 2
+    ;;
+esac
