@@ -31,6 +31,18 @@
 #define W 65
 #define H 49
 
+/* The default raytracer settings with the given integrator. */
+static cr_trace_settings settings(int integrator)
+{
+    cr_trace_settings ts = {.integrator = integrator,
+                            .tolerance = CR_DEFAULT_TOLERANCE,
+                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
+                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
+                            .max_steps = CR_DEFAULT_MAX_STEPS,
+                            .max_turns = CR_DEFAULT_MAX_TURNS};
+    return ts;
+}
+
 static cr_pixel *render(const char *scene_file, int k, int n)
 {
     char path[1024];
@@ -38,12 +50,7 @@ static cr_pixel *render(const char *scene_file, int k, int n)
     cr_err err;
     cr_frame f;
     cr_sphere sp[16];
-    cr_trace_settings ts = {.integrator = CR_DEFAULT_INTEGRATOR,
-                            .tolerance = CR_DEFAULT_TOLERANCE,
-                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
-                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
-                            .max_steps = CR_DEFAULT_MAX_STEPS,
-                            .max_turns = CR_DEFAULT_MAX_TURNS};
+    cr_trace_settings ts = settings(CR_DEFAULT_INTEGRATOR);
     cr_pixel *px = calloc(W * H, sizeof *px);
     snprintf(path, sizeof path, "%s/scenes/%s", CR_SOURCE_DIR, scene_file);
     if (cr_scene_load(path, &s, &err))
@@ -140,12 +147,7 @@ static cr_pixel *render_text(const char *text, int integrator)
     cr_err err;
     cr_frame f;
     cr_sphere sp[4];
-    cr_trace_settings ts = {.integrator = integrator,
-                            .tolerance = CR_DEFAULT_TOLERANCE,
-                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
-                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
-                            .max_steps = CR_DEFAULT_MAX_STEPS,
-                            .max_turns = CR_DEFAULT_MAX_TURNS};
+    cr_trace_settings ts = settings(integrator);
     cr_pixel *px = calloc(W * H, sizeof *px);
     if (cr_scene_load_string(text, strlen(text), "scaled.yml", &s, &err))
         fail_msg("%s", err.msg);
