@@ -17,6 +17,10 @@
  *    documented rule (accent colour of the face when i + j is even, grey 128
  *    when odd), and the ratio sqrt(1 - 2/r)/sqrt(1 - 2/40) of the hit radius
  *    to 1e-6 relative (measured: 2e-9 mino at tol 1e-7, 1e-13 rk4).
+ *    Also rays that pass over the pole (from theta = 0.5 towards -theta):
+ *    they meet the top face on the far side, at phi_o + pi, after sweeping
+ *    psi = 0.5 + pi/2 (same orbit equation), with 9 sectors so that the
+ *    half-turn changes the sector's parity for half of the probes.
  * 2. Sphere chessboard (E.4, objects.h): nearly flat space (M = 1e-6: bending
  *    below 1e-6 rad), a sphere of radius 4 at BL (12, 1.1, 0.5), observer at
  *    (30, 1.2, 0.2). Rays aimed at random points P = C + R d of the visible
@@ -53,7 +57,8 @@
  *      texture (36000 x 2) is a ramp in red around the expected column, so
  *      the sampled colour gives the azimuth to 1e-4 rad; required within
  *      3e-4 rad (a = 0.99 with rho = r instead of sqrt(r^2+a^2) is off by
- *      ~1e-2);
+ *      ~1e-2). Its two rows (centres at theta = pi/4, 3pi/4) are blue 0
+ *      and 100: the sample at theta = pi/2 must be blue 50 +- 1;
  *    - unit checks of cr_bl_to_cart, cr_mino_cart, cr_bl_vel_to_cart,
  *      cr_sky_direction and cr_mino_sky_direction against (2.2.8) written
  *      out here and central differences of it, at random states.
@@ -269,6 +274,77 @@ static void test_disc_chessboard(void **state)
         }
         print_message("disc chessboard, %s: %d probes right; worst ratio error %.2g (tol 1e-6)\n",
                       integ_name(integ), probes, worst);
+    }
+}
+
+/* Rays that pass over the pole: from theta_o = 0.5 towards -theta (up), in
+ * the meridian plane, they cross the axis and meet the disc's top face on
+ * the far side, at phi_o + pi, after sweeping psi = 0.5 + pi/2. 9 sectors
+ * (an odd number, so that phi and phi + pi fall in sectors of both
+ * parities). Under rk4 the ray is continued through the axis by
+ * cr_geo_through_axis, under mino it passes through n = z_hat. */
+static void test_disc_over_the_pole(void **state)
+{
+    const double r_o = 40.0, th_o = 0.5, r_in = 6.0, r_out = 26.0;
+    const double psi_hit = th_o + 0.5 * CR_PI;
+    const int n_rad = 80, n_sec = 9;
+    const double sec = CR_TWO_PI / n_sec, yaw = 0.3, ring = (r_out - r_in) / n_rad;
+    static const double frac[] = {0.25, 0.75};
+    double alpha[4], r_hit[4];
+    int integ, n_al = 0, s, q, k;
+    double al;
+    (void)state;
+    /* four directions whose hit lies inside a ring, away from its edges */
+    for (al = 0.2; al < 0.9 && n_al < 4; al += 0.0137) {
+        double r = binet_r_hit(r_o, al, psi_hit), fr = (r - r_in) / ring;
+        if (r > r_in + 1.0 && r < r_out - 1.0 && fabs(fr - floor(fr + 0.5)) > 0.1 &&
+            (n_al == 0 || r > r_hit[n_al - 1] + 2.0)) {
+            alpha[n_al] = al;
+            r_hit[n_al++] = r;
+        }
+    }
+    assert_int_equal(n_al, 4);
+    for (integ = 0; integ < 2; integ++) {
+        int probes = 0;
+        for (s = 0; s < n_sec; s++)
+            for (q = 0; q < 2; q++) {
+                cr_frame f;
+                double ph = yaw + (s + frac[q]) * sec;
+                double u = fmod(ph + CR_PI - yaw, CR_TWO_PI);
+                int sector = (int)floor(u / sec);
+                frame_init(&f, 1.0, 0.0, 0.0, r_o, th_o, ph, integ);
+                f.disc.enabled = 1;
+                f.disc.color1 = cr_rgb_make(0, 255, 0);
+                f.disc.color2 = cr_rgb_make(255, 0, 255);
+                f.disc.n_radial = n_rad;
+                f.disc.n_sectors = n_sec;
+                f.disc.yaw = yaw;
+                f.disc.r_in = r_in;
+                f.disc.r_out = r_out;
+                cr_frame_prepare(&f);
+                for (k = 0; k < 4; k++) {
+                    double n[3] = {-cos(alpha[k]), -sin(alpha[k]), 0.0};
+                    int rg = (int)floor((r_hit[k] - r_in) / ring);
+                    double z = sqrt(1.0 - 2.0 / r_hit[k]) / sqrt(1.0 - 2.0 / r_o);
+                    cr_rgb want = ((rg + sector) % 2) == 0 ? f.disc.color1
+                                                           : cr_rgb_make(128, 128, 128);
+                    cr_pixel px = trace_dir(&f, n);
+                    if (px.outcome != CR_OUT_DISC || px.object != 0 ||
+                        !rgb_is(px.color, want.r, want.g, want.b) ||
+                        !(fabs(px.redshift / z - 1.0) < 1e-6))
+                        fail_msg("%s: over the pole, ring %d sector %d (phi_o %.4f, hit at "
+                                 "phi_o + pi, r = %.4f): outcome %d object %d colour "
+                                 "(%d,%d,%d), want top face (%d,%d,%d); ratio %.10f, want "
+                                 "%.10f",
+                                 integ_name(integ), rg, sector, ph, r_hit[k], px.outcome,
+                                 px.object, px.color.r, px.color.g, px.color.b, want.r, want.g,
+                                 want.b, px.redshift, z);
+                    probes++;
+                }
+            }
+        print_message("disc over the pole, %s: %d probes right (hits at r = %.2f, %.2f, %.2f, "
+                      "%.2f on the far side)\n",
+                      integ_name(integ), probes, r_hit[0], r_hit[1], r_hit[2], r_hit[3]);
     }
 }
 
@@ -639,6 +715,7 @@ static void test_kerr_cartesian_sky(void **state)
                     uint8_t *p = tex + 3 * ((size_t)row * tw + x);
                     p[0] = (uint8_t)(x - xc + 128);
                     p[1] = 255;
+                    p[2] = (uint8_t)(100 * row); /* theta = pi/2 lies half-way */
                 }
             px = cr_trace_loop(&f, &ray);
             assert_int_equal(px.outcome, CR_OUT_SKY);
@@ -646,6 +723,12 @@ static void test_kerr_cartesian_sky(void **state)
                 fail_msg("%s, side %d: sky colour (%d,%d,%d) outside the window round the "
                          "expected azimuth %.6f",
                          integ_name(integ), side, px.color.r, px.color.g, px.color.b, sky_ph);
+            /* row centres at theta = pi/4 and 3pi/4 (6.10.1): blue 50 */
+            if (abs((int)px.color.b - 50) > 1)
+                fail_msg("%s, side %d: sky colour (%d,%d,%d): blue %d is not 50, the value "
+                         "half-way between the rows at theta = pi/2",
+                         integ_name(integ), side, px.color.r, px.color.g, px.color.b,
+                         px.color.b);
             fx_meas = (double)px.color.r - 128.0 + xc;
             dphi = (fx_meas - fx) * CR_TWO_PI / tw;
             print_message("Kerr sky at R = %g, %s, %s ray: final r %.5f, sky phi %.6f, measured "
@@ -1017,6 +1100,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_disc_chessboard),
+        cmocka_unit_test(test_disc_over_the_pole),
         cmocka_unit_test(test_sphere_chessboard),
         cmocka_unit_test(test_camera_rotation_signs),
         cmocka_unit_test(test_kerr_cartesian_sphere),
