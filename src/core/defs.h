@@ -54,15 +54,56 @@ typedef struct cr_observer {
     double hextent, vextent;
 } cr_observer;
 
-/* Thin accretion disc in the plane theta = pi/2 between BL radii r_in < r_out,
- * with a chessboard of n_radial rings x n_sectors sectors rotated by yaw about
- * the polar axis. color1 is the top (theta < pi/2) face, color2 the bottom. */
+/* Number of nodes of the disc flux table (orbit.h explains the choice). */
+#define CR_FLUX_TABLE_N 128
+
+/* The Novikov-Thorne disc flux table, filled once per frame on the host by
+ * cr_flux_table_fill and read per ray by cr_flux_table_F (orbit.h, where the
+ * fields are described). Declared here so that it can travel in cr_frame. */
+typedef struct cr_flux_table {
+    cr_metric mt;
+    int sense;
+    double r0, r_out;
+    double rc;
+    double t0, dt;
+    double J[CR_FLUX_TABLE_N];
+    double dJdt[CR_FLUX_TABLE_N];
+    double r_peak, F_max;
+} cr_flux_table;
+
+/* Disc models (accretion.model). Values are stable (written to info.txt). */
+typedef enum cr_disc_model {
+    CR_DISC_CHESSBOARD = 0, /* the paper's static chessboard (default) */
+    CR_DISC_KEPLERIAN = 1,  /* circular equatorial geodesic orbits, blackbody
+                               colour T(r) seen with the shift g (issue 12) */
+    CR_DISC_MODEL_COUNT_ = 2
+} cr_disc_model;
+
+/* Thin accretion disc in the plane theta = pi/2 between BL radii r_in < r_out.
+ * CR_DISC_CHESSBOARD: a chessboard of n_radial rings x n_sectors sectors
+ * rotated by yaw about the polar axis; color1 is the top (theta < pi/2) face,
+ * color2 the bottom.
+ * CR_DISC_KEPLERIAN (fields below "keplerian", derived once per frame by
+ * cr_disc_keplerian_prepare in trace.h): matter on circular orbits of sense
+ * `sense` (+1: counter-clockwise about +z); r_in is the effective inner edge
+ * max(requested r_in, r_isco), so rays pass through the disc plane inside the
+ * ISCO (nothing there); T(r) = t_scale F(r)^(1/4) in K from the flux table,
+ * peaking at t_peak; the colour is cr_bb_rgb8(T, g, exposure, white). */
 typedef struct cr_disc {
     int enabled;
     cr_rgb color1, color2;
     int n_radial, n_sectors;
     double yaw;
     double r_in, r_out;
+    /* keplerian */
+    int model; /* cr_disc_model */
+    int sense;
+    double r_isco;   /* ISCO of that sense, units of M */
+    double t_peak;   /* K, > 0 */
+    double t_scale;  /* K (Mdot / M^2)^(-1/4) */
+    double exposure; /* sr m^2 / W: linear sRGB luminance 1 for T = t_peak at g = 1 */
+    double white;    /* tone-curve white point (linear) */
+    cr_flux_table flux;
 } cr_disc;
 
 /* A sphere defined in the Cartesian coordinates (2.2.8). Centre at BL

@@ -314,7 +314,7 @@ CR_HD static inline double cr_orbit_flux(const cr_metric *mt, int s, double r0, 
  * F below 1e-5 of its peak (so below 3e-6 in T) for a up to 0.9999 and
  * r_out/r0 up to 10^4; it is worst in the first interval at the ISCO of a
  * near-extremal hole (tests/test_orbit.c measures it; 64 nodes give 8e-5). */
-#define CR_FLUX_TABLE_N 128
+/* CR_FLUX_TABLE_N (128) is defined in defs.h. */
 
 /* The disc's flux, computed once per frame on the host by cr_flux_table_fill
  * and read per ray by cr_flux_table_F. Why a CR_HD header and not a .c file:
@@ -322,17 +322,14 @@ CR_HD static inline double cr_orbit_flux(const cr_metric *mt, int s, double r0, 
  * both sides (fill on the host, read on the device); keeping them in one
  * core header writes it once (DESIGN rule 1), and the fill needs no
  * allocation or I/O, so it obeys the core rules. */
-typedef struct cr_flux_table {
-    cr_metric mt;
-    int sense;            /* s */
-    double r0, r_out;     /* zero-torque (inner) radius, outer radius */
-    double rc;            /* r_photon - 0.01 M: t = ln(r - rc) */
-    double t0, dt;        /* node k at t0 + k dt, k = 0..CR_FLUX_TABLE_N-1 */
-    double J[CR_FLUX_TABLE_N];    /* J at the nodes */
-    double dJdt[CR_FLUX_TABLE_N]; /* dJ/dt at the nodes (exact) */
-    double r_peak, F_max; /* where F / Mdot is largest on [r0, r_out], and
-                             that value */
-} cr_flux_table;
+/* typedef struct cr_flux_table (defs.h, so that it travels in cr_frame):
+ *   cr_metric mt; int sense;   s
+ *   double r0, r_out;          zero-torque (inner) radius, outer radius
+ *   double rc;                 r_photon - 0.01 M: t = ln(r - rc)
+ *   double t0, dt;             node k at t0 + k dt, k = 0..CR_FLUX_TABLE_N-1
+ *   double J[], dJdt[];        J and the exact dJ/dt at the nodes
+ *   double r_peak, F_max;      where F / Mdot is largest on [r0, r_out], and
+ *                              that value */
 
 /* Golden-section iterations of the peak search (flat maximum: the radius
  * settles to ~1e-8 relative, the value to machine precision). */

@@ -23,8 +23,11 @@
 #ifndef CR_CORE_TRACE_H
 #define CR_CORE_TRACE_H
 
+#include "colour.h"
 #include "mino.h"
 #include "objects.h"
+#include "orbit.h"
+#include "shift.h"
 
 /* Defaults of the raytracer settings (E.2). */
 #define CR_DEFAULT_STEP_MULTIPLIER 0.03125
@@ -66,6 +69,71 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
     f->r_max = at_inf ? INFINITY : rm;
     f->w_sky = (f->sky.rgb && !(f->sky_boundary > 0.0)) ? 0.0 : 1.0 / rm;
     cr_camera_prepare(f);
+}
+
+/* Tone-curve white point of the Keplerian disc's colour (linear units of
+ * the exposure below): the peak temperature seen at g = 1 maps to linear
+ * luminance 1, which the extended Reinhard curve with white point 4 shows at
+ * 0.625 of full scale, so blueshifted (g > 1, brighter) parts have headroom
+ * up to luminance 4 before they saturate. */
+#define CR_KEPLER_WHITE 4.0
+
+/* Derive the Keplerian disc's per-frame data (cr_disc "keplerian" fields)
+ * for a frame in units of M (M = 1) whose disc has model, sense (the orbit
+ * sense s of orbit.h), t_peak, r_in (the requested inner radius) and r_out
+ * set. Sets r_isco, the effective inner edge r_in = max(r_in, r_isco), the
+ * flux table with zero torque there, t_scale (T(r_peak) = t_peak), exposure
+ * (linear sRGB luminance of a t_peak blackbody at g = 1 is 1) and white.
+ * Returns 0, or -1 when there is no table (r_isco not finite, r_isco >= r_out,
+ * or the ISCO within CR_FLUX_MIN_GAP of the photon orbit: |a| above about
+ * 0.99999 M). Host code (thousands of metric evaluations). */
+CR_HD static inline int cr_disc_keplerian_prepare(cr_disc *d, const cr_metric *mt)
+{
+    double xyz[3], rgb[3], lum, r0;
+    d->r_isco = cr_orbit_r_isco(mt, d->sense);
+    if (!cr_isfinite(d->r_isco) || !(d->r_isco < d->r_out))
+        return -1;
+    r0 = d->r_in > d->r_isco ? d->r_in : d->r_isco;
+    if (!cr_flux_table_fill(&d->flux, mt, d->sense, r0, d->r_out))
+        return -1;
+    d->r_in = r0;
+    d->t_scale = cr_flux_tscale_peak(&d->flux, d->t_peak);
+    cr_bb_xyz(d->t_peak, 1.0, xyz);
+    cr_xyz_to_linear_srgb(xyz, rgb);
+    lum = cr_srgb_luminance(rgb);
+    d->exposure = lum > 0.0 ? 1.0 / lum : 1.0;
+    d->white = CR_KEPLER_WHITE;
+    return cr_isfinite(d->t_scale) && cr_isfinite(d->exposure) ? 0 : -1;
+}
+
+/* The frequency ratio g = nu_obs / nu_em (shift.h) of a photon with the
+ * ray's conserved E, L (the covector of the backward tangent -k: p_t = E,
+ * p_phi = L; the ratio does not depend on that sign) emitted by the Keplerian
+ * disc's matter at BL radius r (theta = pi/2) and received by the frame's
+ * static observer (u^t = 1/sqrt(-g_tt), 1 at infinity). -1 where no circular
+ * orbit exists at r. */
+CR_HD static inline double cr_disc_keplerian_g(const cr_frame *f, double E, double L, double r)
+{
+    double p[4], u_obs[4], u_em[4];
+    cr_orbit o;
+    if (!cr_orbit_eval(&f->metric, f->disc.sense, r, &o))
+        return -1.0;
+    cr_orbit_velocity(&o, u_em);
+    u_obs[0] = 1.0 / f->obs_sqrt_mgtt;
+    u_obs[1] = u_obs[2] = u_obs[3] = 0.0;
+    p[0] = E;
+    p[1] = p[2] = 0.0;
+    p[3] = L;
+    return cr_shift_ratio(p, u_obs, p, u_em);
+}
+
+/* Colour of the Keplerian disc at radius r seen with ratio g: the blackbody
+ * of T(r) = t_scale F(r)^(1/4) through cr_bb_rgb8. */
+CR_HD static inline cr_rgb cr_disc_keplerian_color(const cr_disc *d, double r, double g)
+{
+    double F = cr_flux_table_F(&d->flux, r);
+    double T = F > 0.0 ? d->t_scale * sqrt(sqrt(F)) : 0.0;
+    return cr_bb_rgb8(T, g > 0.0 ? g : 0.0, d->exposure, d->white);
 }
 
 /* Express every length of a frame in units of M (DESIGN "Conventions"), so
@@ -565,8 +633,14 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             cr_ray_position(ray, ys, &rr, &th, &ph);
             px.outcome = CR_OUT_DISC;
             px.object = (int16_t)side;
-            px.color = cr_disc_color(&f->disc, rr, ph, side);
-            px.redshift = cr_redshift_static(f, rr, 0.5 * CR_PI);
+            if (f->disc.model == CR_DISC_KEPLERIAN) {
+                double E = mino ? ray->c.E : ray->g.E, L = mino ? ray->c.L : ray->g.L;
+                px.redshift = cr_disc_keplerian_g(f, E, L, rr);
+                px.color = cr_disc_keplerian_color(&f->disc, rr, px.redshift);
+            } else {
+                px.color = cr_disc_color(&f->disc, rr, ph, side);
+                px.redshift = cr_redshift_static(f, rr, 0.5 * CR_PI);
+            }
             break;
         }
         cr_ray_commit(f, ray, &turns);

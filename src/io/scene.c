@@ -273,19 +273,114 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
     return 0;
 }
 
+/* accretion: {model: chessboard (default) | keplerian, ...}. The chessboard
+ * takes color1, color2, resolution, yaw and radius [inner, outer] (the
+ * paper's keys); the Keplerian disc takes radius [inner, outer] or [outer]
+ * (or a plain outer radius; the inner radius then defaults to the ISCO),
+ * retrograde (default false) and temperature (the peak temperature in K,
+ * default 1e4). Keys of the other model are errors. */
 static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
                            cr_err *err)
 {
-    enum { COLOR1, COLOR2, RESOLUTION, YAW, RADIUS, N };
-    cr_yaml_field f[N] = {REQ("color1"), OPT("color2"), REQ("resolution"), OPT("yaw"),
-                          REQ("radius")};
+    enum { COLOR1, COLOR2, RESOLUTION, YAW, RADIUS, MODEL, RETRO, TEMP, N };
+    cr_yaml_field f[N] = {OPT("color1"), OPT("color2"), OPT("resolution"), OPT("yaw"),
+                          OPT("radius"), OPT("model"),  OPT("retrograde"), OPT("temperature")};
     const char *p = "accretion";
     yaml_node_t *it[2];
     char sub[CR_YAML_PATH], sub2[CR_YAML_PATH];
+    yaml_mark_t where;
     cr_rgb c2;
+    int i, count = 0, kep = 0;
 
     if (cr_yaml_fields(y, map, p, key, f, N, err))
         return -1;
+    where = key ? key->start_mark : map->start_mark;
+    if (f[MODEL].value) {
+        const char *m;
+        cr_yaml_path_key(sub, sizeof sub, p, "model");
+        if (cr_yaml_string(y, f[MODEL].value, sub, &m, err))
+            return -1;
+        if (strcmp(m, "keplerian") == 0)
+            kep = 1;
+        else if (strcmp(m, "chessboard") != 0) {
+            char got[96];
+            cr_yaml_describe(f[MODEL].value, got, sizeof got);
+            return cr_yaml_fail(y, f[MODEL].value, sub, err,
+                                "unknown disc model %s (expected one of: chessboard, keplerian)",
+                                got);
+        }
+    }
+    s->disc_model = kep ? CR_DISC_KEPLERIAN : CR_DISC_CHESSBOARD;
+    s->disc_retrograde = 0;
+    s->disc_temperature = 1e4;
+    s->disc_has_r_in = 1;
+    if (kep) {
+        for (i = COLOR1; i <= YAW; i++)
+            if (f[i].value) {
+                cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+                return cr_yaml_fail(y, f[i].key_node, sub, err,
+                                    "applies only to model: chessboard (a keplerian disc is "
+                                    "coloured by its temperature)");
+            }
+        if (!f[RADIUS].value)
+            return cr_yaml_fail_at(y, where, p, err, "missing required key 'radius'");
+        if (f[RETRO].value) {
+            cr_yaml_path_key(sub, sizeof sub, p, "retrograde");
+            if (cr_yaml_bool(y, f[RETRO].value, sub, &s->disc_retrograde, err))
+                return -1;
+        }
+        if (f[TEMP].value) {
+            cr_yaml_path_key(sub, sizeof sub, p, "temperature");
+            if (cr_yaml_number(y, f[TEMP].value, sub, &s->disc_temperature, err))
+                return -1;
+            if (!(s->disc_temperature > 0.0))
+                return cr_yaml_fail(y, f[TEMP].value, sub, err,
+                                    "the peak temperature must be positive (kelvin), got %g",
+                                    s->disc_temperature);
+        }
+        cr_yaml_path_key(sub, sizeof sub, p, "radius");
+        if (f[RADIUS].value->type != YAML_SEQUENCE_NODE) {
+            s->disc_has_r_in = 0;
+            s->disc_r_in.a = s->disc_r_in.b = 0.0;
+            if (get_anim(y, f[RADIUS].value, sub, V_NUMBER, &s->disc_r_out, err))
+                return -1;
+            s->has_disc = 1;
+            return 0;
+        }
+        if (cr_yaml_list(y, f[RADIUS].value, sub, -1, NULL, NULL, &count, err))
+            return -1;
+        if (count == 1 || (count == 3 && cr_yaml_scalar_is(cr_yaml_node(y, f[RADIUS].value->data.sequence.items.start[0]), "linear"))) {
+            s->disc_has_r_in = 0;
+            s->disc_r_in.a = s->disc_r_in.b = 0.0;
+            if (count == 1) {
+                cr_yaml_path_index(sub2, sizeof sub2, sub, 0);
+                if (get_anim(y, cr_yaml_node(y, f[RADIUS].value->data.sequence.items.start[0]),
+                             sub2, V_NUMBER, &s->disc_r_out, err))
+                    return -1;
+            } else if (get_anim(y, f[RADIUS].value, sub, V_NUMBER, &s->disc_r_out, err))
+                return -1;
+            s->has_disc = 1;
+            return 0;
+        }
+        if (cr_yaml_list(y, f[RADIUS].value, sub, 2,
+                         "radii [inner, outer] or [outer] (each a number or [linear, start, "
+                         "end]; the inner radius defaults to the ISCO)",
+                         it, NULL, err))
+            return -1;
+        goto radii;
+    }
+    for (i = TEMP; i >= RETRO; i--)
+        if (f[i].value) {
+            cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+            return cr_yaml_fail(y, f[i].key_node, sub, err,
+                                "applies only to model: keplerian");
+        }
+    if (!f[COLOR1].value)
+        return cr_yaml_fail_at(y, where, p, err, "missing required key 'color1'");
+    if (!f[RESOLUTION].value)
+        return cr_yaml_fail_at(y, where, p, err, "missing required key 'resolution'");
+    if (!f[RADIUS].value)
+        return cr_yaml_fail_at(y, where, p, err, "missing required key 'radius'");
     if (field_rgb(y, &f[COLOR1], p, s->disc_color1, &s->disc_color1, err))
         return -1;
     /* (E.4.2) with ERRATA item 3: the complement of color1 */
@@ -302,6 +397,7 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
                      "radii [inner, outer] (each a number or [linear, start, end])", it, NULL,
                      err))
         return -1;
+radii:
     cr_yaml_path_index(sub2, sizeof sub2, sub, 0);
     if (get_anim(y, it[0], sub2, V_NUMBER, &s->disc_r_in, err))
         return -1;
@@ -723,9 +819,22 @@ static int frame_disc(const cr_scene *s, int k, int n, cr_disc *d, cr_err *err)
     d->color2 = s->disc_color2;
     d->n_radial = s->disc_n_radial;
     d->n_sectors = s->disc_n_sectors;
+    d->model = s->disc_model;
     if (eval(s->disc_yaw, k, n, &d->yaw) || eval(s->disc_r_in, k, n, &d->r_in) ||
         eval(s->disc_r_out, k, n, &d->r_out))
         return frame_fail(err, s, k, n, "accretion: a value is not a finite number");
+    if (d->model == CR_DISC_KEPLERIAN) {
+        if (!(d->r_out > 0.0))
+            return frame_fail(err, s, k, n,
+                              "accretion.radius: the outer radius %g must be positive",
+                              d->r_out);
+        if (s->disc_has_r_in && !(d->r_in < d->r_out))
+            return frame_fail(err, s, k, n,
+                              "accretion.radius: the inner radius %g must be below the outer "
+                              "radius %g",
+                              d->r_in, d->r_out);
+        return 0; /* the rest needs the metric: frame_keplerian */
+    }
     if (d->n_radial < 1 || d->n_sectors < 1)
         return frame_fail(err, s, k, n,
                           "accretion.resolution = [%d, %d]: both must be at least 1",
@@ -738,6 +847,41 @@ static int frame_disc(const cr_scene *s, int k, int n, cr_disc *d, cr_err *err)
                           "accretion.radius: the inner radius %g must be below the outer "
                           "radius %g",
                           d->r_in, d->r_out);
+    return 0;
+}
+
+/* The Keplerian disc's per-frame data, for a frame already in units of M;
+ * m is the scene's M, to give radii in the scene's units in messages. */
+static int frame_keplerian(const cr_scene *s, int k, int n, double m, cr_frame *f, cr_err *err)
+{
+    cr_disc *d = &f->disc;
+    const char *sense = s->disc_retrograde ? "retrograde" : "prograde";
+    double rp = cr_metric_r_plus(&f->metric), risco;
+    if (!d->enabled || d->model != CR_DISC_KEPLERIAN)
+        return 0;
+    d->sense = cr_orbit_sense(&f->metric, !s->disc_retrograde);
+    d->t_peak = s->disc_temperature;
+    if (s->disc_has_r_in && !(d->r_in > rp))
+        return frame_fail(err, s, k, n,
+                          "accretion.radius: the inner radius %g is at or inside the event "
+                          "horizon r+ = %g",
+                          d->r_in * m, rp * m);
+    risco = cr_orbit_r_isco(&f->metric, d->sense);
+    if (!(risco < d->r_out))
+        return frame_fail(err, s, k, n,
+                          "accretion.radius: the %s ISCO r_isco = %g lies at or beyond the outer "
+                          "radius %g: no stable orbit is left on the disc",
+                          sense, risco * m, d->r_out * m);
+    if (!s->disc_has_r_in)
+        d->r_in = risco;
+    if (cr_disc_keplerian_prepare(d, &f->metric) != 0)
+        return frame_fail(err, s, k, n,
+                          "accretion: metric.a = %g, metric.q = %g are too close to an extremal "
+                          "hole for the keplerian disc: its %s ISCO (%g) lies within %g M of the "
+                          "photon orbit and the flux table cannot resolve the flux peak there; "
+                          "use a spin up to about 0.9999 M (Thorne's limit is 0.998 M)",
+                          f->metric.a * m, f->metric.q * m, sense, risco * m,
+                          (double)CR_FLUX_MIN_GAP);
     return 0;
 }
 
@@ -861,7 +1005,12 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
      * scene's own units) */
     for (i = 0; i < s->n_spheres; i++)
         cr_sphere_to_units_of_m(&sphere_buf[i], f->metric.m);
-    cr_frame_to_units_of_m(f);
+    {
+        double m_scene = f->metric.m;
+        cr_frame_to_units_of_m(f);
+        if (frame_keplerian(s, k, n, m_scene, f, err))
+            return -1;
+    }
     if (!s->obs_at_infinity) {
         /* an observer closer to the horizon than 2 epsilon (8.1: observers
          * just outside the horizon work): stop rays halfway between the

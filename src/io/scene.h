@@ -60,6 +60,10 @@ typedef struct cr_scene {
     int disc_n_radial, disc_n_sectors;
     cr_anim disc_yaw;                /* default 0 */
     cr_anim disc_r_in, disc_r_out;
+    int disc_model;          /* cr_disc_model; CR_DISC_CHESSBOARD by default */
+    int disc_retrograde;     /* keplerian: orbits against the hole's spin */
+    double disc_temperature; /* keplerian: peak temperature, K, > 0 (default 1e4) */
+    int disc_has_r_in;       /* keplerian: 0 when the inner radius is omitted (the ISCO) */
 
     int has_sky;
     char *sky_image;      /* path as resolved relative to the scene file's folder */

@@ -262,6 +262,16 @@ scene "disc r_in negative" 1 "accretion.radius: the inner radius -1 is negative"
     "$GOOD"$'accretion: {color1: [0, 255, 0], resolution: [2, 12], radius: [-1, 6]}\n'
 scene "disc resolution 0" 1 'accretion.resolution[0]: expected a positive integer, got "0"' \
     "$GOOD"$'accretion: {color1: [0, 255, 0], resolution: [0, 12], radius: [6, 15]}\n'
+scene "keplerian unknown model" 1 'accretion.model: unknown disc model "kepler" (expected one of: chessboard, keplerian)' \
+    "$GOOD"$'accretion: {model: kepler, radius: [6, 15]}\n'
+scene "keplerian temperature 0" 1 "accretion.temperature: the peak temperature must be positive (kelvin), got 0" \
+    "$GOOD"$'accretion: {model: keplerian, radius: [6, 15], temperature: 0}\n'
+scene "keplerian r_in inside horizon" 1 "accretion.radius: the inner radius 1.5 is at or inside the event horizon r+ = 2" \
+    "$GOOD"$'accretion: {model: keplerian, radius: [1.5, 15]}\n'
+scene "keplerian retrograde ISCO beyond r_out" 1 "accretion.radius: the retrograde ISCO r_isco = 8.71735 lies at or beyond the outer radius 8" \
+    $'metric: {m: 1, a: 0.9, q: 0}\nobserver: {r: 20, theta: 90, phi: 0, hfov: 60}\naccretion: {model: keplerian, radius: [3, 8], retrograde: true}\n'
+scene "keplerian near-extremal spin" 1 "too close to an extremal hole for the keplerian disc" \
+    $'metric: {m: 1, a: 0.999999, q: 0}\nobserver: {r: 20, theta: 90, phi: 0, hfov: 60}\naccretion: {model: keplerian, radius: [20]}\n'
 scene "sphere radius 0" 1 "radius = 0 must be positive" \
     "$GOOD"$'sphere: {color: [0, 0, 255], resolution: [4, 8], r: 8, theta: 90, phi: 0, radius: 0}\n'
 scene "sky boundary 0" 1 "skymap.boundary = 0 must be positive" \
