@@ -75,11 +75,12 @@ def read_curray(path):
         die("cannot read %s: %s" % (path, e))
     with f:
         head = f.readline().strip().split(",")
-        if not head or head[0] != "x" or head[1] != "y" or head[-1] != "outcome":
+        # outcome is column 10; later columns (hit_r, hit_phi) may follow
+        if len(head) < 10 or head[0] != "x" or head[1] != "y" or head[9] != "outcome":
             die("%s: not a curray d_<k>.csv (header %r)" % (path, ",".join(head)))
         for line in f:
             p = line.rstrip("\n").split(",")
-            x, y, o = int(p[0]), int(p[1]), p[-1]
+            x, y, o = int(p[0]), int(p[1]), p[9]
             raw[o] = raw.get(o, 0) + 1
             pix[(x, y)] = CURRAY_MAP.get(o, "other")
             if x >= W:

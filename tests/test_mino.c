@@ -757,6 +757,7 @@ static cr_pixel trace_with_disc(cr_frame *f, double r_in, double r_out, const do
 typedef struct darwin_stats {
     double worst[2][2]; /* [tol 1e-8, 1e-10][direct, higher order] */
     int n[2], e2e;
+    double worst_hit; /* cr_pixel.hit_r against Darwin, direct crossings */
 } darwin_stats;
 
 /* Check one ray of frame f (a = Q = 0) against the predicted crossings. */
@@ -801,6 +802,20 @@ static void darwin_check(const cr_frame *f0, const double *ab, const cr_geo *g, 
         px = trace_with_disc(&f, rp * (1.0 - band), rp * (1.0 + band), ab, g, y);
         assert_int_equal(px.outcome, CR_OUT_DISC);
         assert_int_equal(px.object, order);
+        assert_true(px.hit_r >= rp * (1.0 - band) && px.hit_r <= rp * (1.0 + band));
+        assert_true(px.hit_phi >= 0.0 && px.hit_phi < CR_TWO_PI);
+        if (order == 0) {
+            /* a wide disc: cr_pixel's hit radius is Darwin's r of the first
+             * crossing (bound 1e-7 relative at the default tolerance) */
+            double e;
+            px = trace_with_disc(&f, 0.5 * rp, 2.0 * rp, ab, g, y);
+            assert_int_equal(px.outcome, CR_OUT_DISC);
+            e = fabs(px.hit_r - rp) / rp;
+            ds->worst_hit = fmax(ds->worst_hit, e);
+            if (!(e <= 1e-7))
+                print_message("hit_r %.15g, Darwin %.15g, rel. error %.3g\n", px.hit_r, rp, e);
+            assert_true(e <= 1e-7);
+        }
         px = trace_with_disc(&f, rp * (1.0 + band), rp * (1.0 + 3.0 * band), ab, g, y);
         assert_true(px.outcome != CR_OUT_DISC);
         px = trace_with_disc(&f, rp * (1.0 - 3.0 * band), rp * (1.0 - band), ab, g, y);
@@ -884,9 +899,10 @@ static void test_darwin_disc_radius(void **state)
     print_message("%d direct and %d higher-order crossings vs Darwin: worst rel. error in r "
                   "%.3g / %.3g at tol 1e-8 (bound 1e-7), %.3g / %.3g at tol 1e-10 (bound 1e-9); "
                   "%d rays traced by cr_trace_loop hit r (1 +- 1e-6) on the right face and "
-                  "missed the annuli beside it\n",
+                  "missed the annuli beside it; their hit_r vs Darwin on a wide disc: worst "
+                  "rel. error %.3g (bound 1e-7)\n",
                   ds.n[0], ds.n[1], ds.worst[0][0], ds.worst[0][1], ds.worst[1][0],
-                  ds.worst[1][1], ds.e2e);
+                  ds.worst[1][1], ds.e2e, ds.worst_hit);
 }
 
 /* ---- 4. the shadow seen from infinity ------------------------------------ */

@@ -645,6 +645,9 @@ static void make_frame(cr_pixel *px, int w, int h)
             p->redshift = (double)rnd() / (double)rnd();
         p->err_mean = ldexp((double)rnd(), -40 - (int)(rnd() % 40));
         p->err_std = i % 5 == 0 ? 0.0 : ldexp((double)rnd(), -50);
+        /* hit point: set on every pixel; written only for disc and sphere */
+        p->hit_r = i % 7 == 0 ? special[i % 9] : 2.0 + (double)rnd() / (double)rnd();
+        p->hit_phi = i % 11 == 0 ? 0.0 : CR_TWO_PI * ((double)rnd() / 4294967296.0);
     }
 }
 
@@ -667,16 +670,24 @@ static void test_csv_roundtrip(void **state)
     FILE *fp = fopen(path, "r");
     assert_non_null(fp);
     assert_non_null(fgets(line, sizeof line, fp));
-    assert_string_equal(line, "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome\n");
+    assert_string_equal(line,
+                        "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi\n");
     for (int i = 0; i < W * H; i++) {
-        int x, y;
+        int x, y, n_hit = 0;
         unsigned r, g, b, steps;
-        double z, em, es;
+        double z, em, es, hr, hp;
         char name[32];
         assert_non_null(fgets(line, sizeof line, fp));
-        assert_int_equal(sscanf(line, "%d,%d,%u,%u,%u,%u,%lf,%lf,%lf,%31s", &x, &y, &r, &g, &b,
-                                &steps, &z, &em, &es, name),
-                         10);
+        assert_int_equal(sscanf(line, "%d,%d,%u,%u,%u,%u,%lf,%lf,%lf,%31[a-z],%lf,%lf%n", &x, &y,
+                                &r, &g, &b, &steps, &z, &em, &es, name, &hr, &hp, &n_hit),
+                         12);
+        assert_string_equal(line + n_hit, "\n"); /* nothing after hit_phi */
+        if (px[i].outcome == CR_OUT_DISC || px[i].outcome == CR_OUT_SPHERE) {
+            assert_true(hr == px[i].hit_r); /* exact: %.17g round-trips */
+            assert_true(hp == px[i].hit_phi);
+        } else {
+            assert_true(hr == -1.0 && hp == -1.0);
+        }
         assert_int_equal(x, i % W);
         assert_int_equal(y, i / W);
         assert_int_equal(r, px[i].color.r);
@@ -919,6 +930,69 @@ static void test_info(void **state)
     free(t);
     assert_int_equal(count_entries(f->dir, &temps), 1);
     assert_int_equal(temps, 0);
+}
+
+/* info.txt of a Keplerian disc (issue 12): model, sense, ISCO in M and in
+ * the scene's units, effective inner radius, peak temperature; none of the
+ * chessboard's lines. M = 2, a = 0 then 1.8 (a/M = 0.9): r_isco = 6 M then
+ * BPT's prograde 2.3208830 M (4.641766 in the scene's units). */
+static void test_info_keplerian(void **state)
+{
+    fixture *f = *state;
+    cr_scene s;
+    cr_sysconfig cfg;
+    cr_err err;
+    char path[4096];
+    char *t;
+
+    memset(&s, 0, sizeof s);
+    s.path = "kep.yml";
+    s.m = (cr_anim){2, 2};
+    s.a = (cr_anim){0, 1.8};
+    s.obs_r = (cr_anim){100, 100};
+    s.obs_theta = (cr_anim){CR_PI / 2, CR_PI / 2};
+    s.hfov = (cr_anim){CR_PI / 4, CR_PI / 4};
+    s.has_disc = 1;
+    s.disc_model = CR_DISC_KEPLERIAN;
+    s.disc_r_in = (cr_anim){8, 8};
+    s.disc_r_out = (cr_anim){60, 60};
+    s.disc_has_r_in = 1;
+    s.disc_temperature = 12000;
+    cr_sysconfig_defaults(&cfg);
+    assert_int_equal(cr_info_write(f->dir, NULL, &s, &cfg, NULL, 0, &err), 0);
+    join(path, f, "info.txt");
+    t = read_all(path, NULL);
+    static const char *const want[] = {
+        "Accretion disc\n  model                  keplerian\n",
+        "  orbit sense            prograde (counter-clockwise about +z)\n",
+        "  inner radius           8\n",
+        "  outer radius           60\n",
+        "  r_isco                 6 -> 2.320883042 M (12 -> 4.641766084 in the scene's units)\n",
+        "  effective inner radius 6 -> 4 M (12 -> 8 in the scene's units)\n",
+        "  peak temperature       12000 K\n",
+    };
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
+        if (!strstr(t, want[i]))
+            fail_msg("info.txt lacks \"%s\"; it reads:\n%s", want[i], t);
+    assert_null(strstr(t, "radial rings"));
+    assert_null(strstr(t, "colour 1"));
+    free(t);
+    /* retrograde, inner radius omitted: the ISCO */
+    s.a = (cr_anim){1.8, 1.8};
+    s.disc_retrograde = 1;
+    s.disc_has_r_in = 0;
+    assert_int_equal(cr_info_write(f->dir, NULL, &s, &cfg, NULL, 0, &err), 0);
+    t = read_all(path, NULL);
+    static const char *const want2[] = {
+        "  orbit sense            retrograde (clockwise about +z)\n",
+        "  inner radius           the ISCO\n",
+        "  r_isco                 8.71735228 M (17.43470456 in the scene's units)\n",
+        "  effective inner radius 8.71735228 M (17.43470456 in the scene's units)\n",
+    };
+    for (size_t i = 0; i < sizeof want2 / sizeof want2[0]; i++)
+        if (!strstr(t, want2[i]))
+            fail_msg("info.txt lacks \"%s\"; it reads:\n%s", want2[i], t);
+    free(t);
 }
 
 /* info.txt of an observer at infinity, a sky at infinity and rk4 */
@@ -1408,6 +1482,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_frame_pngs, setup, teardown),
         cmocka_unit_test(test_stats),
         cmocka_unit_test_setup_teardown(test_info, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_info_keplerian, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_at_infinity, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_appends, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_append_fails, setup, teardown),

@@ -94,6 +94,7 @@ typedef struct csv_row {
     unsigned long steps;
     double z, err_mean, err_std;
     char outcome[16];
+    double hit_r, hit_phi;
 } csv_row;
 
 typedef struct shot {
@@ -171,14 +172,16 @@ static csv_row *read_csv(const char *path)
         fail_msg("%s is missing", path);
     rows = calloc(NPX, sizeof *rows);
     assert_non_null(fgets(line, sizeof line, fp));
-    assert_string_equal(line, "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome\n");
+    assert_string_equal(line,
+                        "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi\n");
     while (fgets(line, sizeof line, fp)) {
         csv_row *r;
         if (i >= NPX)
             fail_msg("%s: more than %d rows", path, NPX);
         r = &rows[i++];
-        if (sscanf(line, "%d,%d,%d,%d,%d,%lu,%lf,%lf,%lf,%15[a-z]", &r->x, &r->y, &r->r, &r->g,
-                   &r->b, &r->steps, &r->z, &r->err_mean, &r->err_std, r->outcome) != 10)
+        if (sscanf(line, "%d,%d,%d,%d,%d,%lu,%lf,%lf,%lf,%15[a-z],%lf,%lf", &r->x, &r->y, &r->r,
+                   &r->g, &r->b, &r->steps, &r->z, &r->err_mean, &r->err_std, r->outcome,
+                   &r->hit_r, &r->hit_phi) != 12)
             fail_msg("%s: row %d unreadable: %s", path, i, line);
     }
     fclose(fp);
@@ -485,6 +488,14 @@ static void check_shot(const shot *s, const char *name)
                      r->err_mean, r->err_std, err_mean_max, err_std_max);
         worst_mean = fmax(worst_mean, r->err_mean);
         worst_std = fmax(worst_std, r->err_std);
+        /* hit point: exact in the CSV for disc and sphere pixels, -1 elsewhere */
+        if (p->outcome == CR_OUT_DISC || p->outcome == CR_OUT_SPHERE) {
+            assert_true(r->hit_r == p->hit_r && r->hit_phi == p->hit_phi);
+            assert_true(r->hit_phi >= 0.0 && r->hit_phi < CR_TWO_PI);
+            assert_true(r->hit_r >= f->r_stop);
+        } else {
+            assert_true(r->hit_r == -1.0 && r->hit_phi == -1.0);
+        }
 
         switch (p->outcome) {
         case CR_OUT_HORIZON:
@@ -509,6 +520,7 @@ static void check_shot(const shot *s, const char *name)
             if (p->outcome == CR_OUT_DISC) {
                 cr_rgb acc = p->object ? s->scene.disc_color2 : s->scene.disc_color1;
                 assert_true(p->object == 0 || p->object == 1);
+                bad_disc += !(p->hit_r >= f->disc.r_in && p->hit_r <= f->disc.r_out);
                 bad_disc += r->z < z_eq(f, f->disc.r_in) - 1e-9 ||
                             r->z > z_eq(f, f->disc.r_out) + 1e-9;
                 assert_true(rgb_eq(p->color, acc) ||
@@ -524,6 +536,8 @@ static void check_shot(const shot *s, const char *name)
                                      sp->center[2] * sp->center[2]);
                     bad_sphere += r->z < z_eq(f, fmax(dc - sp->radius, f->r_stop)) - 1e-6 ||
                                   r->z > z_eq(f, dc + sp->radius) + 1e-6;
+                    bad_sphere += p->hit_r < dc - sp->radius - 1e-9 * (dc + sp->radius) ||
+                                  p->hit_r > dc + sp->radius + 1e-9 * (dc + sp->radius);
                 }
             }
             break;

@@ -201,10 +201,14 @@ typedef struct cr_frame {
  * not defined (source inside the ergosphere, error, limit). err_mean and
  * err_std are the mean and standard deviation of the null error (6.7.1) over
  * the ray's steps. object: sphere index for CR_OUT_SPHERE, 0 top / 1 bottom
- * face for CR_OUT_DISC, -1 otherwise. */
+ * face for CR_OUT_DISC, -1 otherwise. hit_r, hit_phi: the BL radius (units
+ * of M) and azimuth (radians, in [0, 2 pi)) of the point where the ray hit
+ * the disc or a sphere, located inside the step as the colour is; -1 (never a
+ * valid value of either) for every other outcome. 56 bytes. */
 typedef struct cr_pixel {
     double redshift;
     double err_mean, err_std;
+    double hit_r, hit_phi;
     uint32_t steps;
     int16_t object;
     uint8_t outcome;

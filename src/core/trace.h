@@ -526,6 +526,15 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
         ray->y[i] = ray->y1[i];
 }
 
+/* phi reduced to [0, 2 pi) (the hit azimuth of cr_pixel). */
+CR_HD static inline double cr_wrap_2pi(double phi)
+{
+    double p = fmod(phi, CR_TWO_PI);
+    if (p < 0.0)
+        p += CR_TWO_PI;
+    return p < CR_TWO_PI ? p : 0.0; /* -tiny + 2 pi rounds to 2 pi */
+}
+
 /* Trace a ray through the frame's scene. */
 CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
 {
@@ -539,6 +548,7 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
     const double *y1 = mino ? ray->m1 : ray->y1;
 
     px.redshift = -1.0;
+    px.hit_r = px.hit_phi = -1.0;
     px.object = -1;
     px.outcome = CR_OUT_NONE;
     px.color = f->error_color;
@@ -620,6 +630,8 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
                 cr_ray_position(ray, ysp, &rr, &th, &ph);
                 px.outcome = CR_OUT_SPHERE;
                 px.object = (int16_t)hit_sphere;
+                px.hit_r = rr;
+                px.hit_phi = cr_wrap_2pi(ph);
                 px.color = cr_sphere_color(&f->spheres[hit_sphere], xs);
                 px.redshift = cr_redshift_static(f, rr, th);
                 break;
@@ -633,6 +645,8 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             cr_ray_position(ray, ys, &rr, &th, &ph);
             px.outcome = CR_OUT_DISC;
             px.object = (int16_t)side;
+            px.hit_r = rr;
+            px.hit_phi = cr_wrap_2pi(ph);
             if (f->disc.model == CR_DISC_KEPLERIAN) {
                 double E = mino ? ray->c.E : ray->g.E, L = mino ? ray->c.L : ray->g.L;
                 px.redshift = cr_disc_keplerian_g(f, E, L, rr);

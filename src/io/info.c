@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "../core/orbit.h"
 #include "atomic.h"
 #include "fsutil.h"
 
@@ -77,6 +78,52 @@ static void cr_put_rgb(FILE *fp, const char *label, cr_rgb c)
     fprintf(fp, "  %-22s [%u, %u, %u]\n", label, c.r, c.g, c.b);
 }
 
+/* "x M (y)" for a radius x in units of M at the scene's start and end:
+ * y = x M in the scene's units. */
+static void cr_put_radius_m(FILE *fp, const char *label, const double x[2], const double m[2])
+{
+    fprintf(fp, "  %-22s %.10g", label, x[0]);
+    if (x[1] != x[0])
+        fprintf(fp, " -> %.10g", x[1]);
+    fprintf(fp, " M (%.10g", x[0] * m[0]);
+    if (x[1] * m[1] != x[0] * m[0])
+        fprintf(fp, " -> %.10g", x[1] * m[1]);
+    fprintf(fp, " in the scene's units)\n");
+}
+
+/* The Keplerian disc (issue 12): model, orbit sense, the ISCO of that sense
+ * and the effective inner edge max(inner radius, r_isco), both at the first
+ * and the last frame (as the frame does: a/M, Q/M), and the peak
+ * temperature. */
+static void cr_info_keplerian(FILE *fp, const cr_scene *s)
+{
+    double m[2] = {s->m.a, s->m.b}, isco[2], rin[2];
+    cr_anim rin_s[2] = {{s->disc_r_in.a, s->disc_r_in.a}, {s->disc_r_in.b, s->disc_r_in.b}};
+    int sense = 1;
+    for (int i = 0; i < 2; i++) {
+        cr_metric mt;
+        mt.m = 1.0;
+        mt.a = (i ? s->a.b : s->a.a) / m[i];
+        mt.q = (i ? s->q.b : s->q.a) / m[i];
+        sense = cr_orbit_sense(&mt, !s->disc_retrograde);
+        isco[i] = cr_orbit_r_isco(&mt, sense);
+        rin[i] = isco[i];
+        if (s->disc_has_r_in && rin_s[i].a / m[i] > isco[i])
+            rin[i] = rin_s[i].a / m[i];
+    }
+    fprintf(fp, "  %-22s keplerian\n", "model");
+    fprintf(fp, "  %-22s %s (%s)\n", "orbit sense", s->disc_retrograde ? "retrograde" : "prograde",
+            sense > 0 ? "counter-clockwise about +z" : "clockwise about +z");
+    if (s->disc_has_r_in)
+        cr_put_anim(fp, "inner radius", s->disc_r_in, "");
+    else
+        fprintf(fp, "  %-22s the ISCO\n", "inner radius");
+    cr_put_anim(fp, "outer radius", s->disc_r_out, "");
+    cr_put_radius_m(fp, "r_isco", isco, m);
+    cr_put_radius_m(fp, "effective inner radius", rin, m);
+    fprintf(fp, "  %-22s %.10g K\n", "peak temperature", s->disc_temperature);
+}
+
 static void cr_info_scene(FILE *fp, const cr_scene *s)
 {
     fprintf(fp, "Scene\n");
@@ -113,6 +160,8 @@ static void cr_info_scene(FILE *fp, const cr_scene *s)
     fprintf(fp, "Accretion disc\n");
     if (!s->has_disc) {
         fprintf(fp, "  none\n");
+    } else if (s->disc_model == CR_DISC_KEPLERIAN) {
+        cr_info_keplerian(fp, s);
     } else {
         cr_put_rgb(fp, "colour 1 (top)", s->disc_color1);
         cr_put_rgb(fp, "colour 2 (bottom)", s->disc_color2);

@@ -1,6 +1,7 @@
 /* curray io: the files of one frame: c_<k>.png, r_<k>.png, d_<k>.csv (output.h). */
 #include "output.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -141,7 +142,7 @@ static char *cr_put_double(char *p, double v)
     return p + snprintf(p, 32, "%.17g", v);
 }
 
-static const char *const cr_csv_header = "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome\n";
+static const char *const cr_csv_header = "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi\n";
 
 int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, int h,
                          cr_err *err)
@@ -180,8 +181,20 @@ int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, 
             size_t ol = strlen(o);
             memcpy(p, o, ol);
             p += ol;
+            /* where the ray hit the disc or a sphere; -1 for other outcomes */
+            int hit = q->outcome == CR_OUT_DISC || q->outcome == CR_OUT_SPHERE;
+            *p++ = ',';
+            p = cr_put_double(p, hit ? q->hit_r : -1.0);
+            *p++ = ',';
+            p = cr_put_double(p, hit ? q->hit_phi : -1.0);
             *p++ = '\n';
             fwrite(line, 1, (size_t)(p - line), fp);
+        }
+        /* the reason of the first failed write (a full disk): a later
+         * fflush may find nothing left to write */
+        if (ferror(fp)) {
+            int e = errno ? errno : EIO;
+            return cr_err_set(err, "writing %s: %s", name, strerror(e));
         }
     }
     return cr_stream_check(fp, name, err);

@@ -390,7 +390,7 @@ if (ulimit -v 3000000 && "$CURRAY" --version) >/dev/null 2>&1; then
     rm -rf o
     OUT=$( (ulimit -v 3000000 && exec timeout 60 "$CURRAY" -s good.yml -o o -x 16384 -y 16384 -a true) 2>&1)
     RC=$?
-    if [ "$RC" = 1 ] && [[ "$OUT" == *"a 16384x16384 frame (1 frame) needs about 10."*" GiB of memory, more than the 2.86 GiB of the address-space limit"* ]] &&
+    if [ "$RC" = 1 ] && [[ "$OUT" == *"a 16384x16384 frame (1 frame) needs about 14."*" GiB of memory, more than the 2.86 GiB of the address-space limit"* ]] &&
         [ ! -e o ]; then
         ok "frame larger than the memory limit"
     else
@@ -428,11 +428,11 @@ if [ "$RC" = 0 ] && [[ "$OUT" == *"warning: cannot create the log file o2/log/cu
     [ -f o2/c_0.png ]; then ok "log folder cannot be created (warning only)"; else bad "log folder cannot be created (warning only)" "exit status $RC"; fi
 rm -rf o2
 
-# A full disk: a 64 KiB file system holds frame 0 (info.txt, c_, r_ and a
+# A full disk: a 96 KiB file system holds frame 0 (info.txt, c_, r_, the log and a
 # 50 KB d_0.csv) but not frame 1. Frame 1 must leave no file of its own and
 # no temporary; info.txt must list frame 0 only.
 mkdir full
-if [ "$(id -u)" = 0 ] && mount -t tmpfs -o size=64k tmpfs full 2>/dev/null; then
+if [ "$(id -u)" = 0 ] && mount -t tmpfs -o size=96k tmpfs full 2>/dev/null; then
     MOUNTED=$WORK/full
     run -s good.yml -o full/out -x 24 -y 24 -f 3 -t icrd -a true
     why=""
