@@ -281,6 +281,7 @@ static int bk_from_scene(const cr_scene *s, const char *name, int integrator, bk
     ts.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
     ts.max_steps = CR_DEFAULT_MAX_STEPS;
     ts.max_turns = CR_DEFAULT_MAX_TURNS;
+    ts.samples = 1;
     if (cr_scene_frame(s, 0, 1, BK_W, BK_H, &ts, &c->f, c->spheres, &err) != 0) {
         printf("FAIL %s: frame 0: %s\n", c->name, err.msg);
         return -1;

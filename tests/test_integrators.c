@@ -222,6 +222,7 @@ static int check_frame(const cr_scene *s, const char *label, int k, int n, doubl
         ts.horizon_epsilon = cfg.horizon_epsilon;
         ts.max_steps = cfg.max_steps;
         ts.max_turns = cfg.max_turns;
+        ts.samples = cfg.samples;
         img[m] = calloc(NPX, sizeof *img[m]);
         assert_non_null(img[m]);
         if (cr_scene_frame(&turned, k, n, W, H, &ts, &f, sp, &err))

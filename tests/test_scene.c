@@ -462,6 +462,7 @@ static void test_frame_fields(void **state)
     ts.horizon_epsilon = 1e-3;
     ts.max_steps = 1234;
     ts.max_turns = 7.0;
+    ts.samples = 1;
     if (cr_scene_frame(&s, 1, 3, 320, 200, &ts, &f, buf, &e))
         fail_msg("%s", e.msg);
     assert_true(f.metric.m == 1.0 && f.metric.a == 0.25 && f.metric.q == 0.25);

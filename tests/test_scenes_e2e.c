@@ -227,6 +227,7 @@ static shot *render(const char *path, int k, int n, double dphi)
     ts.horizon_epsilon = cfg.horizon_epsilon;
     ts.max_steps = cfg.max_steps;
     ts.max_turns = cfg.max_turns;
+    ts.samples = cfg.samples;
     if (cr_scene_frame(&s->scene, k, n, W, H, &ts, &s->f, s->sp, &err))
         fail_msg("%s", err.msg);
     s->px = calloc(NPX, sizeof *s->px);

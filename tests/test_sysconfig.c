@@ -275,7 +275,7 @@ static void test_errors(void **state)
          "expected a positive number"},
         {"raytracer:\n  max_turn: 5\n", "config.yml:2:3: unknown key 'max_turn' in raytracer",
          "(expected one of: horizon_epsilon, step_multiplier, max_steps, max_turns, integrator, "
-         "tolerance)"},
+         "tolerance, samples)"},
         {"raytracer:\n  integrator: euler\n", "config.yml:2:15: raytracer.integrator: ",
          "unknown integrator \"euler\" (expected one of: mino, rk4)"},
         {"raytracer:\n  integrator: rk45\n", "config.yml:2:15: raytracer.integrator: ",

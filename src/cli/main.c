@@ -546,6 +546,7 @@ static int cr_configure(cr_run *run, cr_err *err)
     run->ts.horizon_epsilon = run->cfg.horizon_epsilon;
     run->ts.max_steps = run->cfg.max_steps;
     run->ts.max_turns = run->cfg.max_turns;
+    run->ts.samples = run->cfg.samples;
     return 0;
 }
 

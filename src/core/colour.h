@@ -305,6 +305,17 @@ CR_HD static inline double cr_srgb_encode(double v)
     return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
 }
 
+/* The inverse of cr_srgb_encode: an encoded value in [0, 1] (clamped) to
+ * linear light: e / 12.92 up to 0.04045, else ((e + 0.055) / 1.055)^2.4. */
+CR_HD static inline double cr_srgb_decode(double e)
+{
+    if (!(e > 0.0))
+        return 0.0;
+    if (e >= 1.0)
+        return 1.0;
+    return e <= 0.04045 ? e / 12.92 : pow((e + 0.055) / 1.055, 2.4);
+}
+
 /* An encoded value in [0, 1] to 8 bits, rounded to nearest. */
 CR_HD static inline uint8_t cr_unit_to_u8(double e)
 {

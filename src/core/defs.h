@@ -178,6 +178,9 @@ typedef struct cr_frame {
     double horizon_epsilon; /* epsilon of 6.8, > 0 */
     long max_steps;         /* steps before CR_OUT_LIMIT */
     double max_turns;       /* accumulated |dphi|/2pi before CR_OUT_LIMIT */
+    int samples;            /* antialiasing: samples x samples sub-pixel rays
+                               per pixel (cr_trace_pixel); 1 (or any value
+                               outside 2..CR_MAX_SAMPLES) traces one ray */
 
     /* derived */
     double r_stop;        /* r+ + epsilon */

@@ -674,22 +674,90 @@ CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, co
     return cr_trace_loop(f, &ray);
 }
 
-/* Trace pixel (i, j) of frame f (prepared by cr_frame_prepare). */
-CR_HD static inline cr_pixel cr_trace_pixel(const cr_frame *f, int i, int j)
+/* Largest raytracer.samples: samples^2 sub-pixel rays per pixel. */
+#define CR_MAX_SAMPLES 16
+
+/* Trace the one ray through image point (x, y) of frame f, in pixel units of
+ * cr_camera_screen / cr_camera_pixel_dir: (i, j) is the centre of pixel
+ * (i, j) (those functions add 0.5). */
+CR_HD static inline cr_pixel cr_trace_point(const cr_frame *f, double x, double y)
 {
-    double n[3], y[CR_NY];
+    double n[3], yb[CR_NY];
     cr_geo g;
     if (f->obs_at_inf) {
         cr_ray ray;
         double alpha, beta;
-        cr_camera_screen(f, (double)i, (double)j, &alpha, &beta);
+        cr_camera_screen(f, x, y, &alpha, &beta);
         cr_mino_from_infinity(f, alpha, beta, &ray.c, ray.m);
         cr_ray_mino_start(f, &ray);
         return cr_trace_loop(f, &ray);
     }
-    cr_camera_pixel_dir(f, (double)i, (double)j, n);
-    cr_camera_ray(f, n, &g, y);
-    return cr_trace_ray(f, &g, y);
+    cr_camera_pixel_dir(f, x, y, n);
+    cr_camera_ray(f, n, &g, yb);
+    return cr_trace_ray(f, &g, yb);
+}
+
+/* Offset from the pixel centre, in pixels, of sub-pixel row or column a of
+ * an n x n stratified grid: the sub-pixel centres are at ((a + 0.5) / n) of
+ * the pixel, so the offset is (a + 0.5) / n - 0.5; exactly 0 for the middle
+ * one of an odd n. */
+CR_HD static inline double cr_subpixel_offset(int a, int n)
+{
+    return (a + 0.5) / n - 0.5;
+}
+
+/* The sub-ray whose outcome, redshift, object and error monitor a pixel
+ * reports with n x n samples: a = b = n / 2 (integer division), the centre
+ * sub-ray for odd n (the very ray of samples = 1), and for even n the one of
+ * the four central sub-rays right of and below the centre (offset +0.5 / n
+ * in x and in y, image rows counted downward). */
+CR_HD static inline int cr_subpixel_centre(int n)
+{
+    return n / 2;
+}
+
+/* Trace pixel (i, j) of frame f (prepared by cr_frame_prepare).
+ * With f->samples = n in 2..CR_MAX_SAMPLES (antialiasing) it traces the
+ * n x n sub-rays of a stratified regular grid (sub-pixel centres at
+ * ((a + 0.5) / n, (b + 0.5) / n) of the pixel, a, b = 0..n-1) through the
+ * same camera code. The colour is their mean in linear light (each 8-bit
+ * sRGB colour decoded to linear, averaged, encoded back and rounded); steps
+ * is the sum of all sub-rays' steps (the pixel's cost); outcome, object,
+ * redshift, err_mean and err_std are those of the sub-ray of
+ * cr_subpixel_centre. Any other value of samples traces the one ray through
+ * the pixel centre, exactly as without antialiasing. */
+CR_HD static inline cr_pixel cr_trace_pixel(const cr_frame *f, int i, int j)
+{
+    int n = f->samples, c, k;
+    double sum[3] = {0.0, 0.0, 0.0};
+    unsigned long steps = 0;
+    cr_pixel px;
+    if (n < 2 || n > CR_MAX_SAMPLES)
+        n = 1; /* offset 0: the ray through (double)i, (double)j */
+    c = cr_subpixel_centre(n);
+    px.steps = 0;
+    /* one call site for every sub-ray (one inlined trace in the kernel) */
+    for (k = 0; k < n * n; k++) {
+        int a = k % n, b = k / n;
+        cr_pixel s = cr_trace_point(f, i + cr_subpixel_offset(a, n), j + cr_subpixel_offset(b, n));
+        if (a == c && b == c)
+            px = s;
+        if (n > 1) {
+            sum[0] += cr_srgb_decode(s.color.r / 255.0);
+            sum[1] += cr_srgb_decode(s.color.g / 255.0);
+            sum[2] += cr_srgb_decode(s.color.b / 255.0);
+            steps += s.steps;
+        }
+    }
+    if (n == 1)
+        return px;
+    for (k = 0; k < 3; k++)
+        sum[k] = cr_srgb_encode(sum[k] / (n * n));
+    px.color.r = cr_unit_to_u8(sum[0]);
+    px.color.g = cr_unit_to_u8(sum[1]);
+    px.color.b = cr_unit_to_u8(sum[2]);
+    px.steps = steps > 0xffffffffUL ? 0xffffffffu : (uint32_t)steps;
+    return px;
 }
 
 #endif

@@ -235,6 +235,7 @@ static void cr_info_config(FILE *fp, const cr_sysconfig *c)
             c->integrator == CR_INTEG_RK4 ? "" : " (rk4 only, unused)");
     fprintf(fp, "  %-22s %ld\n", "max steps per ray", c->max_steps);
     fprintf(fp, "  %-22s %.10g\n", "max turns per ray", c->max_turns);
+    fprintf(fp, "  %-22s %d x %d per pixel\n", "samples", c->samples, c->samples);
     fprintf(fp, "  %-22s %s\n", "verbose", cr_yes_no(c->verbose));
     fprintf(fp, "  %-22s %s\n", "quiet", cr_yes_no(c->quiet));
     fprintf(fp, "  %-22s %s\n", "keep log", cr_yes_no(c->keep_log));

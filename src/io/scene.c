@@ -924,6 +924,7 @@ static int frame_settings(const cr_scene *s, int k, int n, const cr_trace_settin
         def.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
         def.max_steps = CR_DEFAULT_MAX_STEPS;
         def.max_turns = CR_DEFAULT_MAX_TURNS;
+        def.samples = 1;
         ts = &def;
     }
     if (ts->integrator < 0 || ts->integrator >= CR_INTEG_COUNT_)
@@ -951,6 +952,10 @@ static int frame_settings(const cr_scene *s, int k, int n, const cr_trace_settin
     if (!(ts->max_turns > 0.0))
         return frame_fail(err, s, k, n, "raytracer.max_turns = %g must be positive",
                           ts->max_turns);
+    if (ts->samples < 0 || ts->samples > CR_MAX_SAMPLES)
+        return frame_fail(err, s, k, n, "raytracer.samples = %d must be an integer from 1 to %d",
+                          ts->samples, CR_MAX_SAMPLES);
+    f->samples = ts->samples > 0 ? ts->samples : 1;
     f->integrator = ts->integrator;
     f->tolerance = ts->tolerance;
     f->step_multiplier = ts->step_multiplier;

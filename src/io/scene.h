@@ -102,6 +102,7 @@ typedef struct cr_trace_settings {
     double horizon_epsilon;
     long max_steps;
     double max_turns;
+    int samples; /* 1..CR_MAX_SAMPLES rays per pixel side; 0 means 1 */
 } cr_trace_settings;
 
 /* Evaluate frame k of n (0 <= k < n) at width x height pixels into *f

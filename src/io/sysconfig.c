@@ -69,6 +69,7 @@ void cr_sysconfig_defaults(cr_sysconfig *c)
     c->step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
     c->max_steps = CR_DEFAULT_MAX_STEPS;
     c->max_turns = CR_DEFAULT_MAX_TURNS;
+    c->samples = 1;
 }
 
 /* A finite number > 0. */
@@ -178,10 +179,13 @@ static int parse_cpu(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_e
 
 static int parse_raytracer(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_err *err)
 {
-    enum { EPS, MULT, STEPS, TURNS, INTEG, TOL, N };
+    enum { EPS, MULT, STEPS, TURNS, INTEG, TOL, SAMPLES, N };
     cr_yaml_field f[N] = {OPT("horizon_epsilon"), OPT("step_multiplier"), OPT("max_steps"),
-                          OPT("max_turns"),       OPT("integrator"),      OPT("tolerance")};
+                          OPT("max_turns"),       OPT("integrator"),      OPT("tolerance"),
+                          OPT("samples")};
     const char *p = "raytracer";
+    char what[64];
+    long samples;
     if (cr_yaml_fields(y, sec->value, p, sec->key_node, f, N, err) ||
         get_integrator(y, &f[INTEG], &c->integrator, err) ||
         get_positive(y, &f[TOL], p, &c->tolerance, err) ||
@@ -193,6 +197,13 @@ static int parse_raytracer(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c
         cr_yaml_int(y, f[STEPS].value, "raytracer.max_steps", 1, LONG_MAX, "a positive integer",
                     &c->max_steps, err))
         return -1;
+    snprintf(what, sizeof what, "an integer from 1 to %d", CR_MAX_SAMPLES);
+    if (f[SAMPLES].value) {
+        if (cr_yaml_int(y, f[SAMPLES].value, "raytracer.samples", 1, CR_MAX_SAMPLES, what,
+                        &samples, err))
+            return -1;
+        c->samples = (int)samples;
+    }
     return 0;
 }
 

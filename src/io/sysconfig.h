@@ -4,6 +4,7 @@
  * overrides the file (-v -q -a). Keys: gpus.<n>.enabled, cpu.threads,
  * raytracer.integrator, raytracer.tolerance, raytracer.horizon_epsilon,
  * raytracer.step_multiplier, raytracer.max_steps, raytracer.max_turns,
+ * raytracer.samples,
  * log.verbose, log.quiet, log.keep_log, auto_accept.
  */
 #ifndef CR_IO_SYSCONFIG_H
@@ -28,6 +29,8 @@ typedef struct cr_sysconfig {
     double step_multiplier; /* > 0, default 1/32; rk4 only */
     long max_steps;         /* > 0 */
     double max_turns;       /* > 0 */
+    int samples;            /* 1..CR_MAX_SAMPLES (trace.h), default 1:
+                               samples x samples rays per pixel */
     int verbose, quiet, keep_log, auto_accept;
 } cr_sysconfig;
 

@@ -295,6 +295,30 @@ expect "tolerance is a word" 1 'c.yml:1:24: raytracer.tolerance: expected a numb
 printf 'raytracer: {tolerance: .nan}\n' >c.yml
 expect "tolerance NaN" 1 'c.yml:1:24: raytracer.tolerance: expected a finite number, got ".nan"' \
     -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {samples: 0}\n' >c.yml
+expect "samples 0" 1 'c.yml:1:22: raytracer.samples: expected an integer from 1 to 16, got "0"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {samples: -1}\n' >c.yml
+expect "negative samples" 1 'c.yml:1:22: raytracer.samples: expected an integer from 1 to 16, got "-1"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {samples: 2.5}\n' >c.yml
+expect "fractional samples" 1 'c.yml:1:22: raytracer.samples: expected an integer from 1 to 16, got "2.5"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {samples: abc}\n' >c.yml
+expect "samples is a word" 1 'c.yml:1:22: raytracer.samples: expected an integer from 1 to 16, got "abc"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {samples: 17}\n' >c.yml
+expect "too many samples" 1 'c.yml:1:22: raytracer.samples: expected an integer from 1 to 16, got "17"' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'raytracer: {samples: 2}\n' >c.yml
+rm -rf o
+run -s good.yml -c c.yml -o o -x 8 -y 8 -t ci -a true
+if [ "$RC" = 0 ] && [ -s o/c_0.png ] && grep -q '^  samples  *2 x 2 per pixel$' o/info.txt; then
+    ok "samples 2 renders, info.txt shows it"
+else
+    bad "samples 2 renders, info.txt shows it" "exit status $RC"
+fi
+rm -rf o
 INF=$'observer: {r: inf, theta: 85, phi: 0, hextent: 40}\n'
 scene "r: inf, no horizon (a > M)" 1 "metric.a = 1.2, metric.q = 0: a^2 + q^2 = 1.44 exceeds m^2 = 1, so there is no event horizon" \
     $'metric: {m: 1, a: 1.2, q: 0}\n'"$INF"
