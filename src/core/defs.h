@@ -223,4 +223,41 @@ CR_HD static inline int cr_isfinite(double x)
     return x - x == 0.0;
 }
 
+/* Golden-section search for the smallest value of a unimodal function on
+ * [lo, hi], written once for every user (the sphere dip inside a step, the
+ * peak of the disc flux). The bracket holds interior points x1 < x2 with
+ * their values f1, f2; the caller evaluates the function, since C has no
+ * closures: cr_golden_start sets x1, x2 (evaluate both), then each
+ * cr_golden_shrink narrows the bracket and returns 1 when the one new point
+ * is x1 (evaluate it into f1) or 2 when it is x2 (into f2). */
+typedef struct cr_golden {
+    double lo, hi, x1, x2, f1, f2;
+} cr_golden;
+
+#define CR_GOLDEN_RATIO_INV 0.61803398874989484820
+
+CR_HD static inline void cr_golden_start(cr_golden *g, double lo, double hi)
+{
+    g->lo = lo;
+    g->hi = hi;
+    g->x1 = hi - CR_GOLDEN_RATIO_INV * (hi - lo);
+    g->x2 = lo + CR_GOLDEN_RATIO_INV * (hi - lo);
+}
+
+CR_HD static inline int cr_golden_shrink(cr_golden *g)
+{
+    if (g->f1 < g->f2) {
+        g->hi = g->x2;
+        g->x2 = g->x1;
+        g->f2 = g->f1;
+        g->x1 = g->hi - CR_GOLDEN_RATIO_INV * (g->hi - g->lo);
+        return 1;
+    }
+    g->lo = g->x1;
+    g->x1 = g->x2;
+    g->f1 = g->f2;
+    g->x2 = g->lo + CR_GOLDEN_RATIO_INV * (g->hi - g->lo);
+    return 2;
+}
+
 #endif

@@ -351,8 +351,8 @@ CR_HD static inline double cr_orbit_flux(const cr_metric *mt, int s, double r0, 
 CR_HD static inline int cr_flux_table_fill(cr_flux_table *tab, const cr_metric *mt, int s,
                                            double r0, double r_out)
 {
-    double risco = cr_orbit_r_isco(mt, s), lo, hi, x1, x2, f1, f2;
-    const double gr = 0.61803398874989484820;
+    double risco = cr_orbit_r_isco(mt, s);
+    cr_golden gs;
     int k, i, m;
     if (!cr_isfinite(risco) || !(r0 >= risco * (1.0 - 1e-12)) || !(r_out > r0) ||
         !cr_isfinite(r_out) || !(r0 - cr_orbit_r_photon(mt, s) >= CR_FLUX_MIN_GAP * mt->m))
@@ -383,30 +383,19 @@ CR_HD static inline int cr_flux_table_fill(cr_flux_table *tab, const cr_metric *
         if (!cr_isfinite(tab->J[k]) || !cr_isfinite(tab->dJdt[k]))
             return 0;
     }
-    /* the peak of F by golden section on the directly integrated F */
-    lo = r0;
-    hi = r_out;
-    x1 = hi - gr * (hi - lo);
-    x2 = lo + gr * (hi - lo);
-    f1 = cr_orbit_flux(mt, s, r0, x1);
-    f2 = cr_orbit_flux(mt, s, r0, x2);
+    /* the peak of F by golden section (defs.h) on the directly integrated
+     * F, as the smallest value of -F */
+    cr_golden_start(&gs, r0, r_out);
+    gs.f1 = -cr_orbit_flux(mt, s, r0, gs.x1);
+    gs.f2 = -cr_orbit_flux(mt, s, r0, gs.x2);
     for (i = 0; i < CR_FLUX_PEAK_ITERS; i++) {
-        if (f1 < f2) {
-            lo = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = lo + gr * (hi - lo);
-            f2 = cr_orbit_flux(mt, s, r0, x2);
-        } else {
-            hi = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = hi - gr * (hi - lo);
-            f1 = cr_orbit_flux(mt, s, r0, x1);
-        }
+        if (cr_golden_shrink(&gs) == 1)
+            gs.f1 = -cr_orbit_flux(mt, s, r0, gs.x1);
+        else
+            gs.f2 = -cr_orbit_flux(mt, s, r0, gs.x2);
     }
-    tab->r_peak = f1 > f2 ? x1 : x2;
-    tab->F_max = f1 > f2 ? f1 : f2;
+    tab->r_peak = gs.f1 < gs.f2 ? gs.x1 : gs.x2;
+    tab->F_max = -(gs.f1 < gs.f2 ? gs.f1 : gs.f2);
     {
         double fe = cr_orbit_flux(mt, s, r0, r_out);
         if (fe > tab->F_max) {

@@ -279,32 +279,23 @@ CR_HD static inline double cr_event_locate(const cr_frame *f, const cr_ray *ray,
 CR_HD static inline double cr_sphere_dip(const cr_frame *f, const cr_ray *ray, int k,
                                          double *s_min, double *ys)
 {
-    const double g = 0.38196601125010515; /* 2 - golden ratio */
-    double a = 0.0, b = 1.0, c = g, d = 1.0 - g, fc, fd;
+    cr_golden g;
     int it;
-    cr_ray_state_at(ray, c, ys);
-    fc = cr_event_value(f, ray, k, ys);
-    cr_ray_state_at(ray, d, ys);
-    fd = cr_event_value(f, ray, k, ys);
-    for (it = 0; it < 40 && fc >= 0.0 && fd >= 0.0; it++) {
-        if (fc < fd) {
-            b = d;
-            d = c;
-            fd = fc;
-            c = a + g * (b - a);
-            cr_ray_state_at(ray, c, ys);
-            fc = cr_event_value(f, ray, k, ys);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = b - g * (b - a);
-            cr_ray_state_at(ray, d, ys);
-            fd = cr_event_value(f, ray, k, ys);
-        }
+    cr_golden_start(&g, 0.0, 1.0);
+    cr_ray_state_at(ray, g.x1, ys);
+    g.f1 = cr_event_value(f, ray, k, ys);
+    cr_ray_state_at(ray, g.x2, ys);
+    g.f2 = cr_event_value(f, ray, k, ys);
+    for (it = 0; it < 40 && g.f1 >= 0.0 && g.f2 >= 0.0; it++) {
+        int which = cr_golden_shrink(&g);
+        cr_ray_state_at(ray, which == 1 ? g.x1 : g.x2, ys);
+        if (which == 1)
+            g.f1 = cr_event_value(f, ray, k, ys);
+        else
+            g.f2 = cr_event_value(f, ray, k, ys);
     }
-    *s_min = fc < fd ? c : d;
-    return fc < fd ? fc : fd;
+    *s_min = g.f1 < g.f2 ? g.x1 : g.x2;
+    return g.f1 < g.f2 ? g.f1 : g.f2;
 }
 
 /* Earliest sphere hit within the current step (x0, x1 the Cartesian
