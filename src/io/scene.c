@@ -86,6 +86,24 @@ static int get_anim(cr_yaml *y, yaml_node_t *node, const char *path, value_kind 
 
 /* An optional or required animated field of section path: sets the default
  * dflt when it is absent. */
+/* Refuse the keys f[first] .. f[last] (in that order, either direction)
+ * that are present, naming the first one found: they do not apply here, and
+ * why says so. Returns -1 with err set, or 0 when none is present. */
+static int refuse_keys(cr_yaml *y, const cr_yaml_field *f, int first, int last, const char *path,
+                       const char *why, cr_err *err)
+{
+    int step = first <= last ? 1 : -1, i;
+    for (i = first;; i += step) {
+        if (f[i].value) {
+            char sub[CR_YAML_PATH];
+            cr_yaml_path_key(sub, sizeof sub, path, f[i].key);
+            return cr_yaml_fail(y, f[i].key_node, sub, err, "%s", why);
+        }
+        if (i == last)
+            return 0;
+    }
+}
+
 static int field_anim(cr_yaml *y, const cr_yaml_field *f, const char *path, value_kind kind,
                       double dflt, cr_anim *out, cr_err *err)
 {
@@ -232,14 +250,11 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
                                    "r: inf, needs the full width of its image plane, a length "
                                    "like r)");
     } else {
-        for (i = HEXT; i <= VEXT; i++)
-            if (f[i].value) {
-                char sub[CR_YAML_PATH];
-                cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
-                return cr_yaml_fail(y, f[i].key_node, sub, err,
-                                    "applies only to the observer at infinity (r: inf); an "
-                                    "observer at a finite r takes hfov (and vfov)");
-            }
+        if (refuse_keys(y, f, HEXT, VEXT, p,
+                        "applies only to the observer at infinity (r: inf); an observer at a "
+                        "finite r takes hfov (and vfov)",
+                        err))
+            return -1;
         if (!f[HFOV].value)
             return cr_yaml_fail_at(y, where, p, err, "missing required key 'hfov'");
     }
@@ -290,7 +305,7 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
     char sub[CR_YAML_PATH], sub2[CR_YAML_PATH];
     yaml_mark_t where;
     cr_rgb c2;
-    int i, count = 0, kep = 0;
+    int count = 0, kep = 0;
 
     if (cr_yaml_fields(y, map, p, key, f, N, err))
         return -1;
@@ -315,13 +330,11 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
     s->disc_temperature = 1e4;
     s->disc_has_r_in = 1;
     if (kep) {
-        for (i = COLOR1; i <= YAW; i++)
-            if (f[i].value) {
-                cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
-                return cr_yaml_fail(y, f[i].key_node, sub, err,
-                                    "applies only to model: chessboard (a keplerian disc is "
-                                    "coloured by its temperature)");
-            }
+        if (refuse_keys(y, f, COLOR1, YAW, p,
+                        "applies only to model: chessboard (a keplerian disc is coloured by its "
+                        "temperature)",
+                        err))
+            return -1;
         if (!f[RADIUS].value)
             return cr_yaml_fail_at(y, where, p, err, "missing required key 'radius'");
         if (f[RETRO].value) {
@@ -369,12 +382,8 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
             return -1;
         goto radii;
     }
-    for (i = TEMP; i >= RETRO; i--)
-        if (f[i].value) {
-            cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
-            return cr_yaml_fail(y, f[i].key_node, sub, err,
-                                "applies only to model: keplerian");
-        }
+    if (refuse_keys(y, f, TEMP, RETRO, p, "applies only to model: keplerian", err))
+        return -1;
     if (!f[COLOR1].value)
         return cr_yaml_fail_at(y, where, p, err, "missing required key 'color1'");
     if (!f[RESOLUTION].value)
