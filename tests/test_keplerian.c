@@ -144,6 +144,43 @@ static void test_edge_on(void **state)
     cr_scene_free(&s);
 }
 
+/* A static observer at finite distance on the axis (theta = 0): every ray
+ * has L = 0, so g = u^t_obs / u^t_em = sqrt(1 - 3M/r) / sqrt(1 - 2M/r_o) for
+ * Schwarzschild, at every disc pixel, with r its hit radius (hit_r). Checks
+ * the observer's side of g (its 4-velocity), which the observer at infinity
+ * cannot see. */
+static void test_static_observer_on_axis(void **state)
+{
+    static const char text[] = "metric: {m: 1, a: 0, q: 0}\n"
+                               "observer: {r: 50, theta: 0, phi: 0, hfov: 40}\n"
+                               "accretion: {model: keplerian, radius: [6, 20]}\n";
+    enum { W = 33, H = 33 };
+    int integ, i, j, n = 0;
+    double worst = 0.0;
+    (void)state;
+    for (integ = 0; integ < 2; integ++) {
+        cr_scene s;
+        cr_frame f;
+        frame_from(text, integ ? CR_INTEG_RK4 : CR_INTEG_MINO, W, H, &f, &s);
+        for (j = 0; j < H; j++)
+            for (i = 0; i < W; i++) {
+                cr_pixel p = cr_trace_pixel(&f, i, j);
+                double want;
+                if (p.outcome != CR_OUT_DISC)
+                    continue;
+                want = sqrt(1.0 - 3.0 / p.hit_r) / sqrt(1.0 - 2.0 / 50.0);
+                worst = fmax(worst, fabs(p.redshift - want));
+                n++;
+            }
+        cr_scene_free(&s);
+    }
+    print_message("static observer on the axis at r = 50: %d disc pixels, worst |g - "
+                  "sqrt(1-3/r)/sqrt(1-2/50)| = %.2e (tol 1e-9)\n",
+                  n, worst);
+    assert_true(n > 100);
+    assert_true(worst < 1e-9);
+}
+
 static void test_integrators_agree(void **state)
 {
     const char *text = "metric: {m: 1, a: 0.6, q: 0.2}\n"
@@ -180,6 +217,7 @@ int main(void)
         cmocka_unit_test(test_face_on),
         cmocka_unit_test(test_edge_on),
         cmocka_unit_test(test_integrators_agree),
+        cmocka_unit_test(test_static_observer_on_axis),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
