@@ -211,6 +211,32 @@ static void test_image_independent_of_mass(void **state)
     }
 }
 
+/* The observer at infinity is independent of M too: its image-plane extents
+ * are lengths like the others (hextent 40 M at M = 1 is 280 at M = 7). */
+static void test_infinity_independent_of_mass(void **state)
+{
+    const char *fmt = "metric: {m: %.17g, a: %.17g, q: 0}\n"
+                      "observer: {r: inf, theta: 80, phi: 0, hextent: %.17g}\n"
+                      "accretion: {color1: [0, 255, 0], resolution: [2, 12], "
+                      "radius: [%.17g, %.17g]}\n";
+    char text[512];
+    cr_pixel *ref, *px;
+    int k, diff = 0;
+    (void)state;
+    snprintf(text, sizeof text, fmt, 1.0, 0.5, 40.0, 6.0, 15.0);
+    ref = render_text(text, CR_INTEG_MINO);
+    snprintf(text, sizeof text, fmt, 7.0, 3.5, 280.0, 42.0, 105.0);
+    px = render_text(text, CR_INTEG_MINO);
+    for (k = 0; k < W * H; k++)
+        diff += px[k].outcome != ref[k].outcome || px[k].color.r != ref[k].color.r ||
+                px[k].color.g != ref[k].color.g || px[k].color.b != ref[k].color.b;
+    print_message("observer at infinity, M = 7: %d of %d pixels differ from M = 1\n", diff,
+                  W * H);
+    assert_int_equal(diff, 0);
+    free(ref);
+    free(px);
+}
+
 /* An observer at infinity with a plain sky colour: rays that never get
  * inside the scene's radius (R < 0 there) are classed as sky without being
  * traced (cr_ray_misses_scene). The same frame with a 1x1 sky texture (which
@@ -265,6 +291,7 @@ int main(void)
         cmocka_unit_test(test_kerr_disc_is_not_mirror_symmetric),
         cmocka_unit_test(test_image_independent_of_mass),
         cmocka_unit_test(test_misses_scene_shortcut),
+        cmocka_unit_test(test_infinity_independent_of_mass),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
