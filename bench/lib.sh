@@ -101,8 +101,10 @@ bench_measure() {
     l0=$(load1)
     t0=$(date +%s.%N)
     if [ -n "$GNU_TIME" ]; then
-        "$GNU_TIME" -v -o "$tfile" "$CURRAY" "${args[@]}" >"$out/stdout" 2>&1
-        rc=$?
+        # `|| rc=$?`: the callers run under set -e, which would end the script
+        # here, silently, on a failed render
+        rc=0
+        "$GNU_TIME" -v -o "$tfile" "$CURRAY" "${args[@]}" >"$out/stdout" 2>&1 || rc=$?
     else
         "$CURRAY" "${args[@]}" >"$out/stdout" 2>&1 &
         pid=$!
@@ -112,8 +114,8 @@ bench_measure() {
             [ -n "$v" ] && rss=$v
             sleep 0.2
         done
-        wait "$pid"
-        rc=$?
+        rc=0
+        wait "$pid" || rc=$?
     fi
     t1=$(date +%s.%N)
     if [ "$rc" != 0 ]; then
