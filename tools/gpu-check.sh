@@ -121,6 +121,15 @@ cli_compare() { # the CLI on CPU and GPU, 3 frames, each integrator
     done
 }
 
+gpu_split() { # frame time split into tracing and the pixel copy to the host
+    local n
+    for n in 1024 4096; do
+        "$bdir/default/curray" -s "$root/bench/scenes/kerr-disc.yml" \
+            -c "$root/bench/scenes/defaults.yml" -o "$work/split$n" -x $n -y $n -f 3 -t i \
+            -a true -v true --backend cuda 2>&1 | grep -E "s tracing" | sed "s/^/${n}x$n: /"
+    done
+}
+
 cli_overlap() { # 12 frames written as PNG and CSV: is the GPU kept busy?
     "$bdir/default/curray" -s "$root/bench/scenes/kerr-disc.yml" \
         -c "$root/bench/scenes/defaults.yml" -o "$work/overlap" -x 1024 -y 1024 -f 12 \
@@ -146,7 +155,7 @@ cmd_run() {
     work=$(mktemp -d /tmp/gpu-check.XXXXXX)
     deadline=$(($(date +%s) + ${GPU_CHECK_BUDGET:-380}))
     export root bdir work
-    export -f csv_diff cli_compare cli_overlap bench_run
+    export -f csv_diff cli_compare cli_overlap bench_run gpu_split
     shopt -s nullglob
     export LD_LIBRARY_PATH=$bdir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
     # the build's CTest files and test_backends (CR_SOURCE_DIR) name the folder
@@ -170,6 +179,7 @@ cmd_run() {
     stage ctest 150 ctest --test-dir "$bdir/default" -L gpu --output-on-failure -V
     cp "$work/ctest.log" "$OUT/ctest.log" 2>/dev/null
     stage cli-compare 60 cli_compare
+    stage split 60 gpu_split
     stage mino-rk4-mino 60 bench_run default mino --scenes "kerr-disc kerrz-disc" --sizes 1024 \
         --runs 3 --config "$root/bench/scenes/mino.yml"
     # rk4 cannot start at infinity (kerrz-disc's observer): kerr-disc only
@@ -202,6 +212,8 @@ cmd_run() {
         grep -E "PASSED|FAILED|SKIPPED|worst|mismatch" "$work/ctest.log" | head -30
         echo
         echo "CLI, CPU vs GPU and overlap:"
+        echo "tracing and pixel copy (curray -v):"
+        cat "$work/split.log" 2>/dev/null
         cat "$work/cli-compare.log" "$work/cli-overlap.log" 2>/dev/null | grep -vE "^\s*$" |
             grep -E "differ|wall time|sum of|done:" | head -20
         echo

@@ -333,6 +333,12 @@ static int cr_gpu_frames(cr_worker *w, cr_sphere *spheres, cr_err *err)
             cr_worker_idle(w);
             goto done;
         }
+        {
+            double trace_s, copy_s;
+            cr_gpu_session_times(gs, &trace_s, &copy_s);
+            cr_log_detail(&run->log, "frame %d on GPU %d: %.4f s tracing, %.4f s copying pixels",
+                          k, w->device, trace_s, copy_s);
+        }
         next = cr_next_frame(run);
         if (next >= 0)
             next_rc = cr_gpu_start(w, gs, next, spheres, &next_err);

@@ -412,6 +412,7 @@ typedef struct cr_gpu_slot {
     cr_sphere *spheres;    /* pinned staging of the frame's spheres */
     int sphere_cap;        /* spheres[] capacity */
     cudaEvent_t start;     /* before the frame's work (timing) */
+    cudaEvent_t traced;    /* after its last kernel, before the pixel copy (timing) */
     cudaEvent_t end;       /* after its pixel copy (timing, blocking sync) */
     cudaEvent_t *chunk;    /* after each chunk of rows (blocking sync) */
     int *chunk_row_end;    /* rows finished when chunk[c] has completed */
@@ -437,6 +438,7 @@ struct cr_gpu_session {
     int *abort_dev;         /* the same int as the device sees it */
     cr_gpu_slot slot[CR_GPU_SLOTS];
     long long launched, waited; /* frames; slot of frame n is n % CR_GPU_SLOTS */
+    double trace_s, copy_s;     /* the last waited frame's split (cr_gpu_session_times) */
 };
 
 /* Rows per kernel launch for frames `width` pixels wide: a few waves of
@@ -490,6 +492,8 @@ extern "C" void cr_gpu_session_free(cr_gpu_session *s)
         cudaFreeHost(sl->spheres);
         if (sl->start)
             cudaEventDestroy(sl->start);
+        if (sl->traced)
+            cudaEventDestroy(sl->traced);
         if (sl->end)
             cudaEventDestroy(sl->end);
         for (c = 0; c < sl->chunk_cap; c++)
@@ -543,6 +547,7 @@ extern "C" cr_gpu_session *cr_gpu_session_create(int device, size_t max_pixels, 
     CR_CUDA_CHECK_GOTO(cudaHostGetDevicePointer((void **)&s->abort_dev, s->abort_host, 0));
     for (k = 0; k < CR_GPU_SLOTS; k++) {
         CR_CUDA_CHECK_GOTO(cudaEventCreateWithFlags(&s->slot[k].start, cudaEventDefault));
+        CR_CUDA_CHECK_GOTO(cudaEventCreateWithFlags(&s->slot[k].traced, cudaEventDefault));
         CR_CUDA_CHECK_GOTO(cudaEventCreateWithFlags(&s->slot[k].end, cudaEventBlockingSync));
     }
     return s;
@@ -673,6 +678,7 @@ extern "C" int cr_gpu_session_launch(cr_gpu_session *s, const cr_frame *f, cr_er
         CR_CUDA_CHECK(cudaEventRecord(sl->chunk[c], s->stream));
         sl->chunk_row_end[c] = row_end;
     }
+    CR_CUDA_CHECK(cudaEventRecord(sl->traced, s->stream));
     CR_CUDA_CHECK(cudaMemcpyAsync(sl->px, s->d_out,
                                   sizeof(cr_pixel) * (size_t)f->width * (size_t)f->height,
                                   cudaMemcpyDeviceToHost, s->stream));
@@ -688,7 +694,7 @@ extern "C" const cr_pixel *cr_gpu_session_wait(cr_gpu_session *s, cr_gpu_progres
                                                double *seconds, cr_err *err)
 {
     cr_gpu_slot *sl;
-    float ms = 0.0f;
+    float ms = 0.0f, ms_trace = 0.0f;
     int c;
     if (!s || s->launched == s->waited) {
         cr_err_set(err, "cr_gpu_session_wait: no frame in flight");
@@ -712,12 +718,21 @@ extern "C" const cr_pixel *cr_gpu_session_wait(cr_gpu_session *s, cr_gpu_progres
             progress(ctx, sl->chunk_row_end[c], sl->height);
     }
     if (CR_CUDA_TRY(cudaEventSynchronize(sl->end)) ||
-        CR_CUDA_TRY(cudaEventElapsedTime(&ms, sl->start, sl->end)))
+        CR_CUDA_TRY(cudaEventElapsedTime(&ms, sl->start, sl->end)) ||
+        CR_CUDA_TRY(cudaEventElapsedTime(&ms_trace, sl->start, sl->traced)))
         return NULL;
     if (seconds)
         *seconds = 1e-3 * (double)ms;
+    s->trace_s = 1e-3 * (double)ms_trace;
+    s->copy_s = 1e-3 * (double)(ms - ms_trace);
     s->waited++;
     return sl->px;
+}
+
+extern "C" void cr_gpu_session_times(const cr_gpu_session *s, double *trace_s, double *copy_s)
+{
+    *trace_s = s && s->waited > 0 ? s->trace_s : 0.0;
+    *copy_s = s && s->waited > 0 ? s->copy_s : 0.0;
 }
 
 extern "C" int cr_gpu_render(int device, const cr_frame *f, cr_pixel *out, cr_err *err)

@@ -130,6 +130,11 @@ const cr_pixel *cr_gpu_session_wait(cr_gpu_session *s, cr_gpu_progress_fn progre
                                     cr_gpu_cancel_fn cancelled, void *ctx, double *seconds,
                                     cr_err *err);
 
+/* The last frame that cr_gpu_session_wait returned, split: *trace_s from the
+ * start of its work to the end of its last kernel (the tracing itself),
+ * *copy_s the copy of its pixels to the host after that; the two add up to
+ * wait's *seconds. Both 0 before the first frame. */
+void cr_gpu_session_times(const cr_gpu_session *s, double *trace_s, double *copy_s);
 /* Stop the frames in flight (as a cancel does), then free the session's
  * device and pinned memory, stream and events. NULL is ignored. */
 void cr_gpu_session_free(cr_gpu_session *s);
