@@ -43,7 +43,7 @@ bdir=$root/build-gpu-check
 build_variant() { # NAME MAXRREG TARGETS...
     local name=$1 rreg=$2
     shift 2
-    cmake -S "$root" -B "$bdir/$name" -DCMAKE_BUILD_TYPE=Release -DCURRAY_STATIC=ON \
+    cmake -S "$bdir/src" -B "$bdir/$name" -DCMAKE_BUILD_TYPE=Release -DCURRAY_STATIC=ON \
         -DCURRAY_CUDA_ARCHS=90 -DCURRAY_CUDA_MAXRREG="$rreg" -DCURRAY_CUDA_PTXAS_VERBOSE=ON \
         -DCURRAY_TESTS=ON >"$bdir/$name.cmake.log" 2>&1 || {
         cat "$bdir/$name.cmake.log"
@@ -65,6 +65,14 @@ cmd_build() {
         exit 1
     }
     mkdir -p "$bdir/lib"
+    # Build from a snapshot of the last commit (git archive HEAD), not from the
+    # working tree, which others may be editing; it travels in the build
+    # folder, and `run` takes its scenes and scripts from there too.
+    rm -rf "$bdir/src"
+    mkdir -p "$bdir/src"
+    git -C "$root" archive HEAD | tar -x -C "$bdir/src" || exit 1
+    echo "gpu-check: building commit $(git -C "$root" rev-parse --short HEAD)"
+    git -C "$root" rev-parse --short HEAD >"$bdir/src/COMMIT"
     build_variant default "" curray test_backends || exit 1
     build_variant r128 128 curray || exit 1
     build_variant r64 64 curray || exit 1
@@ -152,6 +160,8 @@ cmd_run() {
         echo "gpu-check: no $bdir/default/curray: run 'tools/gpu-check.sh build' here first" >&2
         exit 1
     }
+    # scenes, scripts and sources of the commit that was built
+    [ -d "$bdir/src" ] && root=$bdir/src
     work=$(mktemp -d /tmp/gpu-check.XXXXXX)
     deadline=$(($(date +%s) + ${GPU_CHECK_BUDGET:-380}))
     export root bdir work
@@ -166,7 +176,7 @@ cmd_run() {
         mkdir -p "$(dirname "$src")" && ln -s "$root" "$src"
     fi
     {
-        echo "gpu-check on $(hostname) at $(date -u +%FT%TZ), checkout $(git -C "$root" rev-parse --short HEAD 2>/dev/null)"
+        echo "gpu-check on $(hostname) at $(date -u +%FT%TZ), commit $(cat "$root/COMMIT" 2>/dev/null)"
         nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.mem,temperature.gpu --format=csv 2>&1
     } >"$work/summary.txt"
 
