@@ -68,8 +68,8 @@ cmd_build() {
     # Build from a snapshot of the last commit (git archive HEAD), not from the
     # working tree, which others may be editing; it travels in the build
     # folder, and `run` takes its scenes and scripts from there too.
-    rm -rf "$bdir/src"
-    mkdir -p "$bdir/src"
+    rm -rf "$bdir"
+    mkdir -p "$bdir/lib" "$bdir/src"
     git -C "$root" archive HEAD | tar -x -C "$bdir/src" || exit 1
     echo "gpu-check: building commit $(git -C "$root" rev-parse --short HEAD)"
     git -C "$root" rev-parse --short HEAD >"$bdir/src/COMMIT"
