@@ -9,6 +9,7 @@
 #define CR_CORE_OBJECTS_H
 
 #include "camera.h"
+#include "shift.h"
 
 /* Chessboard grey between accent squares. */
 #define CR_GREY_LEVEL 128
@@ -170,16 +171,47 @@ CR_HD static inline cr_rgb cr_sky_sample(const cr_sky *sky, double th, double ph
     return cr_rgb_make((int)(c[0] + 0.5), (int)(c[1] + 0.5), (int)(c[2] + 0.5));
 }
 
-/* Redshift omega_r/omega_s (3.5.1) of light from a static source at (r, th)
- * seen by the frame's static observer. Since u_t is conserved this is
- * sqrt(-g_tt)|source / sqrt(-g_tt)|observer (ERRATA). Returns -1 for a source
- * inside the ergosurface, where no static source exists. */
-CR_HD static inline double cr_redshift_static(const cr_frame *f, double r, double th)
+/* The frame's observer's 4-velocity u^mu (BL components): e_t of its tetrad
+ * (camera.h), (1, 0, 0, 0) for the observer at infinity. */
+CR_HD static inline void cr_frame_observer_velocity(const cr_frame *f, double u[4])
 {
-    double m = cr_metric_minus_gtt(&f->metric, r, th);
-    if (!(m > 0.0))
+    int k;
+    for (k = 0; k < 4; k++)
+        u[k] = f->obs_at_inf ? (k == 0 ? 1.0 : 0.0) : f->tetrad[0][k];
+}
+
+/* g = nu_obs / nu_em (shift.h, the one frequency ratio) of a photon with
+ * covariant momentum p (at the emitter, any common scale and sign: the ray's
+ * backward tangent -k serves) emitted by matter of 4-velocity u_em and
+ * received by the frame's observer. The photon's p_t and p_phi are conserved
+ * and the frame's observer has u^r = u^theta = 0, so the momentum at the
+ * observer is (p_t, 0, 0, p_phi) as far as p . u_obs is concerned; an
+ * observer with u^r or u^theta (issue 13) must add them here. -1 where the
+ * ratio is undefined (cr_shift_ratio). */
+CR_HD static inline double cr_frame_shift(const cr_frame *f, const double p[4],
+                                          const double u_em[4])
+{
+    double u_obs[4], p_obs[4];
+    cr_frame_observer_velocity(f, u_obs);
+    p_obs[0] = p[0];
+    p_obs[1] = p_obs[2] = 0.0;
+    p_obs[3] = p[3];
+    return cr_shift_ratio(p_obs, u_obs, p, u_em);
+}
+
+/* Redshift omega_r/omega_s (3.5.1, 6.9) of light with covariant momentum p
+ * from a static source at (r, th) seen by the frame's observer: the one
+ * frequency ratio with the static emitter's 4-velocity. For the static
+ * observer it equals sqrt(-g_tt)|source / sqrt(-g_tt)|observer (ERRATA) to
+ * rounding, whatever p (tests/test_patterns.c). Returns -1 for a source
+ * inside the ergosurface, where no static source exists. */
+CR_HD static inline double cr_redshift_static(const cr_frame *f, const double p[4], double r,
+                                              double th)
+{
+    double u_em[4];
+    if (!cr_shift_static_velocity(&f->metric, r, th, u_em))
         return -1.0;
-    return sqrt(m) / f->obs_sqrt_mgtt;
+    return cr_frame_shift(f, p, u_em);
 }
 
 #endif

@@ -106,25 +106,18 @@ CR_HD static inline int cr_disc_keplerian_prepare(cr_disc *d, const cr_metric *m
     return cr_isfinite(d->t_scale) && cr_isfinite(d->exposure) ? 0 : -1;
 }
 
-/* The frequency ratio g = nu_obs / nu_em (shift.h) of a photon with the
- * ray's conserved E, L (the covector of the backward tangent -k: p_t = E,
- * p_phi = L; the ratio does not depend on that sign) emitted by the Keplerian
- * disc's matter at BL radius r (theta = pi/2) and received by the frame's
- * static observer (u^t = 1/sqrt(-g_tt), 1 at infinity). -1 where no circular
- * orbit exists at r. */
-CR_HD static inline double cr_disc_keplerian_g(const cr_frame *f, double E, double L, double r)
+/* The frequency ratio g = nu_obs / nu_em (cr_frame_shift) of a photon with
+ * covariant momentum p (cr_ray_momentum) emitted by the Keplerian disc's
+ * matter at BL radius r (theta = pi/2) and received by the frame's observer.
+ * -1 where no circular orbit exists at r. */
+CR_HD static inline double cr_disc_keplerian_g(const cr_frame *f, const double p[4], double r)
 {
-    double p[4], u_obs[4], u_em[4];
+    double u_em[4];
     cr_orbit o;
     if (!cr_orbit_eval(&f->metric, f->disc.sense, r, &o))
         return -1.0;
     cr_orbit_velocity(&o, u_em);
-    u_obs[0] = 1.0 / f->obs_sqrt_mgtt;
-    u_obs[1] = u_obs[2] = u_obs[3] = 0.0;
-    p[0] = E;
-    p[1] = p[2] = 0.0;
-    p[3] = L;
-    return cr_shift_ratio(p, u_obs, p, u_em);
+    return cr_frame_shift(f, p, u_em);
 }
 
 /* Colour of the Keplerian disc at radius r seen with ratio g: the blackbody
@@ -217,6 +210,29 @@ CR_HD static inline void cr_ray_position(const cr_ray *ray, const double *y, dou
         *r = y[CR_Y_R];
         *th = y[CR_Y_TH];
         *ph = y[CR_Y_PH];
+    }
+}
+
+/* Covariant momentum p_mu of the ray (its backward tangent -k, geodesic.h
+ * convention: p_t = E, p_phi = L) at a state y of the ray's integrator. RK4:
+ * p_r = g_rr u^r, p_theta = g_thth u^theta. Mino: dr/dtau = Sigma dr/dlambda
+ * gives p_r = (dr/dtau) / Delta = -(dw/dtau) / D(w) (D = Delta / r^2), and
+ * p_theta = dtheta/dtau = -(dn_z/dtau) / sin(theta) (0 on the axis). */
+CR_HD static inline void cr_ray_momentum(const cr_ray *ray, const double *y, double p[4])
+{
+    if (ray->kind == CR_INTEG_MINO) {
+        double w = y[CR_M_W], st = sqrt(y[CR_M_NX] * y[CR_M_NX] + y[CR_M_NY] * y[CR_M_NY]);
+        p[0] = ray->c.E;
+        p[1] = -y[CR_M_DW] / (1.0 + w * (ray->c.d1 + w * ray->c.d2));
+        p[2] = st > 0.0 ? -y[CR_M_DNZ] / st : 0.0;
+        p[3] = ray->c.L;
+    } else {
+        cr_metric_point q;
+        cr_metric_eval(&ray->g.mt, y[CR_Y_R], y[CR_Y_TH], &q);
+        p[0] = ray->g.E;
+        p[1] = q.g_rr * y[CR_Y_UR];
+        p[2] = q.g_thth * y[CR_Y_UTH];
+        p[3] = ray->g.L;
     }
 }
 
@@ -576,8 +592,13 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             } else {
                 px.color = f->sky_color;
             }
-            /* a static source at infinity: omega_r/omega_s = 1/sqrt(-g_tt)|obs */
-            px.redshift = 1.0 / f->obs_sqrt_mgtt;
+            /* a static source at infinity, u_em = (1, 0, 0, 0): for the static
+             * observer omega_r/omega_s = 1/sqrt(-g_tt)|obs */
+            {
+                double p[4], u_inf[4] = {1.0, 0.0, 0.0, 0.0};
+                cr_ray_momentum(ray, y, p);
+                px.redshift = cr_frame_shift(f, p, u_inf);
+            }
             break;
         }
         if (steps >= f->max_steps || turns >= f->max_turns) {
@@ -616,7 +637,7 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
                     hit_sphere = -1;
             }
             if (hit_sphere >= 0 && (!hit_disc || s_sphere < s_disc)) {
-                double xs[3], rr, th, ph;
+                double xs[3], rr, th, ph, p[4];
                 cr_ray_cart(f, ray, ysp, xs);
                 cr_ray_position(ray, ysp, &rr, &th, &ph);
                 px.outcome = CR_OUT_SPHERE;
@@ -624,27 +645,28 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
                 px.hit_r = rr;
                 px.hit_phi = cr_wrap_2pi(ph);
                 px.color = cr_sphere_color(&f->spheres[hit_sphere], xs);
-                px.redshift = cr_redshift_static(f, rr, th);
+                cr_ray_momentum(ray, ysp, p);
+                px.redshift = cr_redshift_static(f, p, rr, th);
                 break;
             }
             for (i = 0; i < 3; i++)
                 x0[i] = x1[i];
         }
         if (hit_disc) {
-            double rr, th, ph;
+            double rr, th, ph, p[4];
             int side = cr_event_value(f, ray, CR_EV_DISC, y) < 0.0 ? 0 : 1;
             cr_ray_position(ray, ys, &rr, &th, &ph);
             px.outcome = CR_OUT_DISC;
             px.object = (int16_t)side;
             px.hit_r = rr;
             px.hit_phi = cr_wrap_2pi(ph);
+            cr_ray_momentum(ray, ys, p);
             if (f->disc.model == CR_DISC_KEPLERIAN) {
-                double E = mino ? ray->c.E : ray->g.E, L = mino ? ray->c.L : ray->g.L;
-                px.redshift = cr_disc_keplerian_g(f, E, L, rr);
+                px.redshift = cr_disc_keplerian_g(f, p, rr);
                 px.color = cr_disc_keplerian_color(&f->disc, rr, px.redshift);
             } else {
                 px.color = cr_disc_color(&f->disc, rr, ph, side);
-                px.redshift = cr_redshift_static(f, rr, 0.5 * CR_PI);
+                px.redshift = cr_redshift_static(f, p, rr, 0.5 * CR_PI);
             }
             break;
         }
