@@ -9,7 +9,7 @@
 
 #include "../io/sysconfig.h"
 
-enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS };
+enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS, OPT_TRACE };
 
 static int cr_parse_bool(const char *s, int *out)
 {
@@ -63,6 +63,9 @@ void cr_cli_usage(const char *prog, FILE *out)
             "  -a, --auto_accept BOOL  do not ask before rendering\n"
             "      --backend B         auto (CUDA when a usable GPU exists), cpu or cuda\n"
             "      --threads N         CPU threads, 1 to %d (overrides cpu.threads)\n"
+            "      --trace I,J         write the path of pixel (I, J)'s ray (column I from\n"
+            "                          the left, row J from the top, from 0) to\n"
+            "                          trace_<I>_<J>_<k>.csv per frame; no image, -t ignored\n"
             "  -i, --info              list CUDA devices\n"
             "  -h, --help              this help\n"
             "      --version           print the version\n"
@@ -88,6 +91,7 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
         {"version", no_argument, 0, OPT_VERSION},
         {"backend", required_argument, 0, OPT_BACKEND},
         {"threads", required_argument, 0, OPT_THREADS},
+        {"trace", required_argument, 0, OPT_TRACE},
         {0, 0, 0, 0}};
     int opt;
     memset(c, 0, sizeof *c);
@@ -125,6 +129,22 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
                                        "got '%s'",
                                   CR_SYSCONFIG_MAX_THREADS, optarg);
             break;
+        case OPT_TRACE: {
+            char *end;
+            errno = 0;
+            c->trace_i = strtol(optarg, &end, 10);
+            if (!errno && end != optarg && *end == ',' && end[1] != '\0') {
+                const char *js = end + 1;
+                c->trace_j = strtol(js, &end, 10);
+                if (!errno && end != js && *end == '\0' && c->trace_i >= 0 && c->trace_j >= 0 &&
+                    c->trace_i < CR_MAX_SIDE && c->trace_j < CR_MAX_SIDE) {
+                    c->trace = 1;
+                    break;
+                }
+            }
+            return cr_err_set(err, "--trace: expected a pixel I,J (column, row from 0), got '%s'",
+                              optarg);
+        }
         case 'v': flag = &c->verbose; break;
         case 'q': flag = &c->quiet; break;
         case 'a': flag = &c->auto_accept; break;
@@ -187,6 +207,13 @@ int cr_cli_check_render(const cr_cli *c, cr_err *err)
                           "(it would need about %.1f GiB of memory)",
                           c->width, c->height, c->width * c->height, CR_MAX_PIXELS,
                           (double)c->width * c->height * 48.0 / (1 << 30));
+    if (c->trace) {
+        if (c->trace_i >= c->width || c->trace_j >= c->height)
+            return cr_err_set(err, "--trace: pixel %ld,%ld is outside the %ldx%ld frame "
+                                   "(0 <= I < %ld, 0 <= J < %ld)",
+                              c->trace_i, c->trace_j, c->width, c->height, c->width, c->height);
+        return 0; /* -t is not used */
+    }
     if (!c->output_type[0])
         return cr_err_set(err, "-t: empty output type; use any of i, c, r, d");
     for (p = c->output_type; *p; p++)

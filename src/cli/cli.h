@@ -25,6 +25,8 @@ typedef struct cr_cli {
     int info, help, version;
     cr_backend_choice backend;
     long threads;            /* --threads, 0 = from the configuration */
+    int trace;               /* --trace i,j given: trace that pixel's path, no image */
+    long trace_i, trace_j;   /* its column (from the left) and row (from the top) */
 } cr_cli;
 
 /* Largest frame accepted, in pixels per side and in total. */

@@ -29,6 +29,7 @@
 #include "../io/fsutil.h"
 #include "../io/log.h"
 #include "../io/output.h"
+#include "../io/raypath.h"
 #include "../io/scene.h"
 #include "../io/sysconfig.h"
 #include "cli.h"
@@ -520,6 +521,8 @@ static int cr_command_line(cr_run *run, int *rc)
         *rc = CR_EXIT_USAGE;
         return -1;
     }
+    if (run->cli.trace)
+        run->cli.output_type = ""; /* --trace writes only the path files */
     return 0;
 }
 
@@ -791,6 +794,44 @@ static int cr_prepare(cr_run *run, int *rc)
     return 0;
 }
 
+/* --trace I,J: the path of pixel (I, J)'s ray in each frame k, traced on the
+ * CPU by the image's own loop (raypath.h) and written atomically to
+ * trace_<I>_<J>_<k>.csv; no image. Returns the exit status. */
+static int cr_trace_paths(cr_run *run)
+{
+    cr_sphere *spheres = malloc(sizeof *spheres * (size_t)(run->scene.n_spheres + 1));
+    cr_err err;
+    int k;
+    if (!spheres) {
+        cr_log_error(&run->log, "curray: out of memory");
+        return CR_EXIT_ERROR;
+    }
+    for (k = 0; k < run->cli.frames; k++) {
+        cr_frame f;
+        cr_raypath rp;
+        char name[96];
+        int i = (int)run->cli.trace_i, j = (int)run->cli.trace_j;
+        snprintf(name, sizeof name, "trace_%d_%d_%d.csv", i, j, k);
+        if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                           (int)run->cli.height, &run->ts, &f, spheres, &err) ||
+            cr_raypath_trace(&f, i, j, &rp, &err))
+            goto fail;
+        if (cr_raypath_write_csv(run->cli.output_dir, name, &rp, &err)) {
+            cr_raypath_free(&rp);
+            goto fail;
+        }
+        cr_log_info(&run->log, "frame %d: pixel (%d, %d): %s after %u steps, %ld points in %s", k,
+                    i, j, cr_outcome_name(rp.px.outcome), rp.px.steps, rp.n, name);
+        cr_raypath_free(&rp);
+    }
+    free(spheres);
+    return CR_EXIT_OK;
+fail:
+    cr_log_error(&run->log, "curray: %s", err.msg);
+    free(spheres);
+    return CR_EXIT_ERROR;
+}
+
 int main(int argc, char **argv)
 {
     cr_run run;
@@ -804,7 +845,9 @@ int main(int argc, char **argv)
      * half-way: console writes then just fail. */
     signal(SIGPIPE, SIG_IGN);
     if (cr_command_line(&run, &rc) == 0 && cr_prepare(&run, &rc) == 0) {
-        if (cr_render_frames(&run, &err)) {
+        if (run.cli.trace) {
+            rc = cr_trace_paths(&run);
+        } else if (cr_render_frames(&run, &err)) {
             cr_log_error(&run.log, "curray: %s", err.msg);
             rc = CR_EXIT_ERROR;
         } else {

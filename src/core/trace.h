@@ -177,6 +177,9 @@ typedef struct cr_ray {
     cr_dp5 st;     /* stages; st.k[0] = f(m) */
     double hm;     /* the current step */
     double h_next; /* the next trial step */
+    /* Path recorder (cr_path, below): NULL except when one ray's path is
+     * wanted (--trace, curray.trace); set by the ray's maker to NULL. */
+    struct cr_path *path;
 } cr_ray;
 
 /* The state at fraction s in [0, 1] of the current step. */
@@ -395,6 +398,7 @@ CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_ray *ray,
 CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
 {
     ray->kind = CR_INTEG_MINO;
+    ray->path = 0;
     if (fabs(ray->m[CR_M_NZ]) < 1e-15) /* cos(pi/2) rounded: on the disc plane */
         ray->m[CR_M_NZ] = 0.0;
     cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
@@ -407,6 +411,7 @@ CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, cons
                                         cr_ray *ray)
 {
     int i;
+    ray->path = 0;
     ray->g = *g;
     for (i = 0; i < CR_NY; i++)
         ray->y[i] = y[i];
@@ -542,7 +547,180 @@ CR_HD static inline double cr_wrap_2pi(double phi)
     return p < CR_TWO_PI ? p : 0.0; /* -tiny + 2 pi rounds to 2 pi */
 }
 
-/* Trace a ray through the frame's scene. */
+/* ---- The path of one ray (--trace, curray.trace) ------------------------
+ * An optional recorder of cr_trace_loop: with ray->path set, the loop stores
+ * points of the very ray it traces (no second integration): the observer's
+ * point, then `sub` points per accepted step (fractions 1/sub .. 1 of it by
+ * cr_ray_state_at, the step's end exact), and a located disc or sphere hit as
+ * the last point. The host owns the buffer; the core never allocates. With
+ * ray->path NULL (every image) the loop only tests the pointer once per step.
+ * Columns of a point (lengths in M, angles in rad):
+ *   CR_P_LAM   the ray's parameter from the observer: the affine parameter of
+ *              the backward tangent under rk4, Mino time tau (d lambda =
+ *              Sigma d tau) under mino;
+ *   CR_P_T     BL coordinate time: rk4 integrates it (t = 0 at the observer);
+ *              mino does not (it diverges at w = 0), so the recorder
+ *              integrates dt/dtau = Sigma u^t by Simpson's rule over each
+ *              recorded interval (midpoint from the dense output); a ray from
+ *              an observer at infinity starts its path at the end of the first
+ *              step (w > 0) with t = 0 there;
+ *   CR_P_R, CR_P_TH, CR_P_PH   BL position, theta in [0, pi], phi continuous
+ *              (not reduced to [0, 2 pi));
+ *   CR_P_X..CR_P_Z   Cartesian position (2.2.8);
+ *   CR_P_UT..CR_P_UPH   u^mu = dx^mu/dlambda of the backward tangent (affine
+ *              lambda, the convention of geodesic.h: u_t = E, u_phi = L), so
+ *              that g(u, u) = 0 can be checked point by point. */
+enum {
+    CR_P_LAM = 0,
+    CR_P_T,
+    CR_P_R,
+    CR_P_TH,
+    CR_P_PH,
+    CR_P_X,
+    CR_P_Y,
+    CR_P_Z,
+    CR_P_UT,
+    CR_P_UR,
+    CR_P_UTH,
+    CR_P_UPH,
+    CR_PN
+};
+
+typedef struct cr_path {
+    double *pts; /* host buffer of cap points, point k at pts[k * CR_PN] */
+    long cap;
+    long n;  /* points the ray produced; n > cap: only the first cap stored */
+    int sub; /* points per step, >= 1 */
+    /* running values (set by cr_path_begin) */
+    int started;     /* the first point is recorded */
+    double lam;      /* parameter at the start of the current step */
+    double t, dt;    /* t and dt/dparameter at the last point */
+    double ph;       /* phi at the last point */
+} cr_path;
+
+/* Columns R..UPH (and T under rk4) of state y of the ray's integrator into
+ * p; returns dt/dparameter there (u^t under rk4, Sigma u^t under mino), or
+ * NaN at w = 0 (mino at infinity: no finite point). */
+CR_HD static inline double cr_path_eval(const cr_frame *f, const cr_ray *ray, const double *y,
+                                        double *p)
+{
+    cr_metric_point q;
+    double u[4], a = f->metric.a;
+    if (ray->kind == CR_INTEG_MINO) {
+        double r, c, s, ph, w = y[CR_M_W], psi, dth, sig;
+        cr_geo g;
+        if (!(w > 0.0))
+            return NAN;
+        cr_mino_position(y, &r, &c, &s, &ph);
+        psi = atan2(y[CR_M_NY], y[CR_M_NX]);
+        /* dtheta/dtau = dn/dtau . e_theta for the unit vector n */
+        dth = (y[CR_M_DNX] * c * cos(psi) + y[CR_M_DNY] * c * sin(psi) - y[CR_M_DNZ] * s) /
+              sqrt(y[CR_M_NX] * y[CR_M_NX] + y[CR_M_NY] * y[CR_M_NY] + y[CR_M_NZ] * y[CR_M_NZ]);
+        sig = r * r + a * a * c * c;
+        p[CR_P_R] = r;
+        p[CR_P_TH] = atan2(s, c);
+        p[CR_P_PH] = ph;
+        cr_mino_cart(a, y, p + CR_P_X);
+        g.mt = f->metric;
+        g.E = ray->c.E;
+        g.L = ray->c.L;
+        g.th_floor = 0.0;
+        {
+            double yb[CR_NY];
+            yb[CR_Y_UR] = -y[CR_M_DW] / (w * w * sig);
+            yb[CR_Y_UTH] = dth / sig;
+            cr_metric_eval(&f->metric, r, p[CR_P_TH], &q);
+            cr_geo_velocity(&g, yb, &q, u);
+        }
+        p[CR_P_UT] = u[0];
+        p[CR_P_UR] = u[1];
+        p[CR_P_UTH] = u[2];
+        p[CR_P_UPH] = u[3];
+        return sig * u[0];
+    } else {
+        double yb[CR_NY], dy[CR_NY];
+        int i;
+        for (i = 0; i < CR_NY; i++)
+            yb[i] = y[i];
+        cr_geo_through_axis(yb);
+        cr_geo_rhs_full(&ray->g, yb, dy, u, &q);
+        p[CR_P_T] = yb[CR_Y_T];
+        p[CR_P_R] = yb[CR_Y_R];
+        p[CR_P_TH] = yb[CR_Y_TH];
+        p[CR_P_PH] = yb[CR_Y_PH];
+        cr_bl_to_cart(a, yb[CR_Y_R], yb[CR_Y_TH], yb[CR_Y_PH], p + CR_P_X);
+        for (i = 0; i < 4; i++)
+            p[CR_P_UT + i] = u[i];
+        return u[0];
+    }
+}
+
+/* Store point p (CR_PN values) with parameter lam; phi made continuous with
+ * the previous point. */
+CR_HD static inline void cr_path_store(cr_path *path, double *p, double lam)
+{
+    int i;
+    p[CR_P_LAM] = lam;
+    if (path->started)
+        p[CR_P_PH] += CR_TWO_PI * floor((path->ph - p[CR_P_PH]) / CR_TWO_PI + 0.5);
+    path->ph = p[CR_P_PH];
+    path->started = 1;
+    if (path->n < path->cap)
+        for (i = 0; i < CR_PN; i++)
+            path->pts[path->n * CR_PN + i] = p[i];
+    path->n++;
+}
+
+/* The observer's point (none at w = 0). */
+CR_HD static inline void cr_path_begin(const cr_frame *f, const cr_ray *ray, cr_path *path)
+{
+    double p[CR_PN];
+    const double *y = ray->kind == CR_INTEG_MINO ? ray->m : ray->y;
+    path->n = 0;
+    path->started = 0;
+    path->lam = 0.0;
+    path->t = 0.0;
+    if (path->sub < 1)
+        path->sub = 1;
+    path->dt = cr_path_eval(f, ray, y, p);
+    if (path->dt == path->dt) {
+        if (ray->kind == CR_INTEG_MINO)
+            p[CR_P_T] = 0.0;
+        path->t = p[CR_P_T];
+        cr_path_store(path, p, 0.0);
+    }
+}
+
+/* Points of the current step up to fraction s_end (1, or a located hit). */
+CR_HD static inline void cr_path_step(const cr_frame *f, const cr_ray *ray, cr_path *path,
+                                      double s_end)
+{
+    double p[CR_PN], q[CR_PN], ys[CR_RAY_NY];
+    int mino = ray->kind == CR_INTEG_MINO, k;
+    double h = mino ? ray->hm : ray->h;
+    for (k = 1; k <= path->sub; k++) {
+        double s0 = s_end * (k - 1) / path->sub, s1 = s_end * k / path->sub, dt;
+        cr_ray_state_at(ray, s1, ys);
+        dt = cr_path_eval(f, ray, ys, p);
+        if (mino) {
+            if (!path->started) {
+                p[CR_P_T] = 0.0; /* from infinity: t counted from here */
+            } else {
+                double dtm;
+                cr_ray_state_at(ray, 0.5 * (s0 + s1), ys);
+                dtm = cr_path_eval(f, ray, ys, q);
+                p[CR_P_T] = path->t + (s1 - s0) * h / 6.0 * (path->dt + 4.0 * dtm + dt);
+            }
+        }
+        path->t = p[CR_P_T];
+        path->dt = dt;
+        cr_path_store(path, p, path->lam + s1 * h);
+    }
+    path->lam += s_end * h;
+}
+
+/* Trace a ray through the frame's scene (with ray->path set, recording its
+ * path as described above). */
 CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
 {
     cr_pixel px;
@@ -561,6 +739,8 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
     px.color = f->error_color;
     if (f->n_spheres > 0)
         cr_ray_cart(f, ray, y, x0);
+    if (ray->path)
+        cr_path_begin(f, ray, ray->path);
 
     for (;;) {
         double e;
@@ -647,6 +827,8 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
                 px.color = cr_sphere_color(&f->spheres[hit_sphere], xs);
                 cr_ray_momentum(ray, ysp, p);
                 px.redshift = cr_redshift_static(f, p, rr, th);
+                if (ray->path)
+                    cr_path_step(f, ray, ray->path, s_sphere);
                 break;
             }
             for (i = 0; i < 3; i++)
@@ -658,6 +840,8 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             cr_ray_position(ray, ys, &rr, &th, &ph);
             px.outcome = CR_OUT_DISC;
             px.object = (int16_t)side;
+            if (ray->path)
+                cr_path_step(f, ray, ray->path, s_disc);
             px.hit_r = rr;
             px.hit_phi = cr_wrap_2pi(ph);
             cr_ray_momentum(ray, ys, p);
@@ -670,6 +854,8 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             }
             break;
         }
+        if (ray->path)
+            cr_path_step(f, ray, ray->path, 1.0);
         cr_ray_commit(f, ray, &turns);
     }
     px.steps = (uint32_t)steps;
@@ -693,21 +879,29 @@ CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, co
 /* Trace the one ray through image point (x, y) of frame f, in pixel units of
  * cr_camera_screen / cr_camera_pixel_dir: (i, j) is the centre of pixel
  * (i, j) (those functions add 0.5). */
-CR_HD static inline cr_pixel cr_trace_point(const cr_frame *f, double x, double y)
+CR_HD static inline cr_pixel cr_trace_point_path(const cr_frame *f, double x, double y,
+                                                cr_path *path)
 {
     double n[3], yb[CR_NY];
     cr_geo g;
+    cr_ray ray;
     if (f->obs_at_inf) {
-        cr_ray ray;
         double alpha, beta;
         cr_camera_screen(f, x, y, &alpha, &beta);
         cr_mino_from_infinity(f, alpha, beta, &ray.c, ray.m);
         cr_ray_mino_start(f, &ray);
-        return cr_trace_loop(f, &ray);
+    } else {
+        cr_camera_pixel_dir(f, x, y, n);
+        cr_camera_ray(f, n, &g, yb);
+        cr_ray_from_bl(f, &g, yb, &ray);
     }
-    cr_camera_pixel_dir(f, x, y, n);
-    cr_camera_ray(f, n, &g, yb);
-    return cr_trace_ray(f, &g, yb);
+    ray.path = path;
+    return cr_trace_loop(f, &ray);
+}
+
+CR_HD static inline cr_pixel cr_trace_point(const cr_frame *f, double x, double y)
+{
+    return cr_trace_point_path(f, x, y, 0);
 }
 
 /* Offset from the pixel centre, in pixels, of sub-pixel row or column a of
@@ -771,6 +965,19 @@ CR_HD static inline cr_pixel cr_trace_pixel(const cr_frame *f, int i, int j)
     px.color.b = cr_unit_to_u8(sum[2]);
     px.steps = steps > 0xffffffffUL ? 0xffffffffu : (uint32_t)steps;
     return px;
+}
+
+/* The path (cr_path) of the ray that pixel (i, j) reports: with antialiasing
+ * the sub-ray of cr_subpixel_centre, else the pixel's one ray. Returns that
+ * ray's cr_pixel (its outcome, hit point, redshift). */
+CR_HD static inline cr_pixel cr_trace_pixel_path(const cr_frame *f, int i, int j, cr_path *path)
+{
+    int n = f->samples;
+    double off;
+    if (n < 2 || n > CR_MAX_SAMPLES)
+        n = 1;
+    off = cr_subpixel_offset(cr_subpixel_centre(n), n);
+    return cr_trace_point_path(f, i + off, j + off, path);
 }
 
 #endif

@@ -1,0 +1,40 @@
+/* curray io: the path of one pixel's ray (--trace i,j, curray.trace).
+ *
+ * The path comes from the image's own trace loop (trace.h, cr_path): the
+ * core records into a buffer owned here, which grows and the ray is traced
+ * again when it was too short (tracing is deterministic). */
+#ifndef CR_IO_RAYPATH_H
+#define CR_IO_RAYPATH_H
+
+#include <stddef.h>
+
+#include "../core/trace.h"
+#include "error.h"
+
+/* Points per integrator step: the step's end plus dense-output points inside
+ * it. Mino steps are long (tens per ray), so 8 points a step draw a smooth
+ * curve; rk4 steps are short (hundreds to thousands per ray): 1. */
+#define CR_RAYPATH_SUB_MINO 8
+#define CR_RAYPATH_SUB_RK4 1
+
+typedef struct cr_raypath {
+    double *pts; /* n points of CR_PN columns (trace.h CR_P_*), malloc'ed */
+    long n;
+    cr_pixel px; /* what the traced ray reports (outcome, hit_r, hit_phi, ...) */
+} cr_raypath;
+
+/* Trace the ray of pixel (i, j) of the prepared frame f (0 <= i < width,
+ * 0 <= j < height, checked) with its path. Returns 0, or -1 with err set
+ * (pixel outside the frame, out of memory); out->pts is then NULL. */
+int cr_raypath_trace(const cr_frame *f, int i, int j, cr_raypath *out, cr_err *err);
+
+void cr_raypath_free(cr_raypath *rp);
+
+/* The CSV header line (no newline): param,t,r,theta,phi,x,y,z,ut,ur,utheta,uphi */
+extern const char cr_raypath_csv_header[];
+
+/* Write the path as CSV to dir/name atomically: the header line, then one
+ * row per point with every value in %.17g (exact round trip). */
+int cr_raypath_write_csv(const char *dir, const char *name, const cr_raypath *rp, cr_err *err);
+
+#endif
