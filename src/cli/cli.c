@@ -9,7 +9,7 @@
 
 #include "../io/sysconfig.h"
 
-enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS, OPT_TRACE };
+enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS, OPT_RESUME, OPT_TRACE };
 
 static int cr_parse_bool(const char *s, int *out)
 {
@@ -46,7 +46,8 @@ void cr_cli_usage(const char *prog, FILE *out)
             "Usage: %s -s <scene file> -o <output directory> -x <width> -y <height>\n"
             "          [-f <frames>] [-t <output types>] [-c <system configuration>]\n"
             "          [-v <true/false>] [-q <true/false>] [-a <true/false>]\n"
-            "          [--backend auto|cpu|cuda] [--threads N] [-i] [-h] [--version] [--]\n"
+            "          [--backend auto|cpu|cuda] [--threads N] [--resume] [-i] [-h]\n"
+            "          [--version] [--]\n"
             "\n"
             "  -s, --scene_file FILE   scene to render (YAML, see README)\n"
             "  -o, --output_dir DIR    where outputs go (created if missing)\n"
@@ -63,6 +64,8 @@ void cr_cli_usage(const char *prog, FILE *out)
             "  -a, --auto_accept BOOL  do not ask before rendering\n"
             "      --backend B         auto (CUDA when a usable GPU exists), cpu or cuda\n"
             "      --threads N         CPU threads, 1 to %d (overrides cpu.threads)\n"
+            "      --resume            finish an interrupted run in the same output folder:\n"
+            "                          render only the frames whose files are missing\n"
             "      --trace I,J         write the path of pixel (I, J)'s ray (column I from\n"
             "                          the left, row J from the top, from 0) to\n"
             "                          trace_<I>_<J>_<k>.csv per frame; no image, -t ignored\n"
@@ -91,6 +94,7 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
         {"version", no_argument, 0, OPT_VERSION},
         {"backend", required_argument, 0, OPT_BACKEND},
         {"threads", required_argument, 0, OPT_THREADS},
+        {"resume", no_argument, 0, OPT_RESUME},
         {"trace", required_argument, 0, OPT_TRACE},
         {0, 0, 0, 0}};
     int opt;
@@ -151,6 +155,7 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
         case 'i': c->info = 1; break;
         case 'h': c->help = 1; break;
         case OPT_VERSION: c->version = 1; break;
+        case OPT_RESUME: c->resume = 1; break;
         case OPT_BACKEND:
             if (strcmp(optarg, "auto") == 0)
                 c->backend = CR_BACKEND_AUTO;

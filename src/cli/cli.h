@@ -27,6 +27,7 @@ typedef struct cr_cli {
     long threads;            /* --threads, 0 = from the configuration */
     int trace;               /* --trace i,j given: trace that pixel's path, no image */
     long trace_i, trace_j;   /* its column (from the left) and row (from the top) */
+    int resume;              /* --resume: keep the frames an earlier run finished */
 } cr_cli;
 
 /* Largest frame accepted, in pixels per side and in total. */

@@ -35,6 +35,7 @@
 #include "cli.h"
 #include "crash.h"
 #include "interrupt.h"
+#include "resume.h"
 
 #define CR_EXIT_OK 0
 #define CR_EXIT_ERROR 1
@@ -71,6 +72,10 @@ typedef struct cr_run {
     cr_log log;
     int log_open;
     cr_run_info info;
+    char hash[17];    /* the run hash (resume.h) */
+    char *stale;      /* stale frame files in the output folder, or NULL */
+    cr_resume resume; /* --resume: the frames kept from the earlier run */
+    int n_kept;       /* how many */
     cr_info infotxt; /* info.txt: begun before the first frame, ended after the last */
     cr_trace_settings ts;
     char backend_name[64];
@@ -120,11 +125,11 @@ static void cr_progress(void *ctx, int rows_done, int rows_total)
     pthread_mutex_unlock(&run->lock);
     if (rows_done >= rows_total)
         return;
-    if (work > 0.0)
+    if (work > run->n_kept) /* frames kept by --resume took no time in this run */
         cr_log_progress(&run->log, "frame %d of %ld: %3.0f%%; run: %.0f s elapsed, about %.0f s "
                                    "left",
                         w->frame, run->cli.frames, 100.0 * frac, el,
-                        el * ((double)run->cli.frames - work) / work);
+                        el * ((double)run->cli.frames - work) / (work - run->n_kept));
     else
         cr_log_progress(&run->log, "frame %d of %ld: starting", w->frame, run->cli.frames);
 }
@@ -282,12 +287,21 @@ static int cr_do_frame(cr_worker *w, int k, cr_pixel *px, cr_sphere *spheres, cr
     return cr_output_frame(w, k, px, f.width, f.height, cr_now() - t0, err);
 }
 
+/* Is frame k one that --resume keeps from the earlier run? */
+static int cr_frame_kept(const cr_run *run, int k)
+{
+    return run->resume.body && run->resume.body[k];
+}
+
 /* Take the next frame from the stack: its number, or -1 when the run is over
- * (every frame taken, a worker failed, or Ctrl-C). */
+ * (every frame taken, a worker failed, or Ctrl-C). Frames kept by --resume
+ * are skipped. */
 static int cr_next_frame(cr_run *run)
 {
-    int k = atomic_fetch_add(&run->next_frame, 1);
-    int stop;
+    int k, stop;
+    do
+        k = atomic_fetch_add(&run->next_frame, 1);
+    while (k < run->cli.frames && cr_frame_kept(run, k));
     pthread_mutex_lock(&run->lock);
     stop = run->failed;
     pthread_mutex_unlock(&run->lock);
@@ -686,6 +700,9 @@ static int cr_render_frames(cr_run *run, cr_err *err)
     run->done = calloc((size_t)run->cli.frames, 1);
     if (!run->stats || !run->done)
         return cr_err_set(err, "out of memory for %ld frames", run->cli.frames);
+    for (k = 0; k < run->cli.frames; k++)
+        run->done[k] = (char)cr_frame_kept(run, k);
+    run->n_done = run->n_kept;
     if (cr_interrupt_install(&run->intr, run->cli.output_dir, &run->log, err))
         return -1;
     pthread_mutex_init(&run->lock, NULL);
@@ -736,12 +753,68 @@ static int cr_report(cr_run *run)
     return CR_EXIT_OK;
 }
 
+/* Are all of frame k's files present? (Written atomically, a present file
+ * is complete.) */
+static int cr_frame_files_present(const cr_run *run, int k)
+{
+    char name[64];
+    const char *t;
+    for (t = run->cli.output_type; *t; t++)
+        if (cr_frame_file_name(*t, k, name, sizeof name) == 0 &&
+            !cr_file_exists(run->cli.output_dir, name))
+            return 0;
+    return 1;
+}
+
+/* What the output folder holds already (resume.h): the run hash for
+ * info.txt; stale frame files, reported on the console and in info.txt and
+ * never deleted; with --resume, the earlier run's finished frames (a record
+ * in its info.txt, whose hash must match, and every file present), which
+ * this run keeps. */
+static int cr_check_folder(cr_run *run, cr_err *err)
+{
+    const char *dir = run->cli.output_dir;
+    int n, k;
+    if (cr_run_hash(&run->scene, &run->cfg, run->cli.width, run->cli.height, run->cli.frames,
+                    run->cli.output_type, run->use_cuda, "", run->hash, err))
+        return -1;
+    run->info.hash = run->hash;
+    n = cr_stale_scan(dir, (int)run->cli.frames, run->cli.output_type, &run->stale);
+    if (n < 0)
+        return cr_err_set(err, "out of memory scanning %s", dir);
+    if (n > 0) {
+        run->info.stale = run->stale;
+        cr_log_info(&run->log,
+                    "curray: warning: %s holds %d frame file%s that this run does not "
+                    "overwrite, from an earlier run: %s; curray leaves them as they are "
+                    "(delete them yourself if they are not wanted)",
+                    dir, n, n > 1 ? "s" : "", run->stale);
+    }
+    if (!run->cli.resume)
+        return 0;
+    if (!cr_has_type(run, 'i'))
+        return cr_err_set(err, "--resume needs info.txt, which records the frames an earlier run "
+                               "finished: add i to -t (and use the same -t as that run)");
+    if (cr_resume_load(&run->resume, dir, run->hash, (int)run->cli.frames, err))
+        return -1;
+    run->info.started = run->resume.started[0] ? run->resume.started : NULL;
+    for (k = 0; k < run->cli.frames; k++)
+        if (cr_frame_kept(run, k) && !cr_frame_files_present(run, k))
+            cr_resume_drop(&run->resume, k);
+    run->n_kept = run->resume.n_records;
+    cr_log_info(&run->log, "resuming: %d of %ld frame%s finished by the earlier run, %ld to render",
+                run->n_kept, run->cli.frames, run->cli.frames > 1 ? "s" : "",
+                run->cli.frames - run->n_kept);
+    return 0;
+}
+
 /* Everything up to the render: configuration, backend, scene, frames,
  * summary, prompt, output folder. Returns -1 with *rc when the run ends
  * before rendering. */
 static int cr_prepare(cr_run *run, int *rc)
 {
     cr_err err;
+    int n;
     err.msg[0] = '\0';
     *rc = CR_EXIT_ERROR;
     if (cr_configure(run, &err)) {
@@ -771,6 +844,10 @@ static int cr_prepare(cr_run *run, int *rc)
     run->info.frames = (int)run->cli.frames;
     run->info.output_types = run->cli.output_type;
     run->info.version = CURRAY_VERSION;
+    if (cr_check_folder(run, &err)) {
+        cr_log_error(&run->log, "curray: %s", err.msg);
+        return -1;
+    }
     if (cr_has_type(run, 'i')) {
         /* info.txt shows the CPU threads in use, not the file's value */
         cr_sysconfig used = run->cfg;
@@ -787,10 +864,14 @@ static int cr_prepare(cr_run *run, int *rc)
         *rc = CR_EXIT_OK;
         return -1;
     }
-    if (cr_prepare_output(run, &err)) {
+    if (cr_prepare_output(run, &err) ||
+        cr_info_resume(&run->infotxt, run->resume.body, run->resume.order, run->n_kept, &err)) {
         cr_log_error(&run->log, "curray: %s", err.msg);
         return -1;
     }
+    if ((n = cr_remove_dead_temps(run->cli.output_dir)) > 0)
+        cr_log_info(&run->log, "removed %d temporary file%s left by a curray that was killed", n,
+                    n > 1 ? "s" : "");
     return 0;
 }
 
@@ -860,6 +941,8 @@ int main(int argc, char **argv)
     }
     cr_crash_uninstall();
     free(run.settings);
+    free(run.stale);
+    cr_resume_free(&run.resume);
     free(run.stats);
     free(run.done);
     cr_scene_free(&run.scene);

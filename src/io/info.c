@@ -280,7 +280,12 @@ static void cr_info_header(FILE *fp, const cr_run_info *run, const cr_scene *sce
         snprintf(when, sizeof when, "unknown");
     fprintf(fp, "curray %s - relativistic raytracer, run summary\n",
             run && run->version ? run->version : CURRAY_VERSION);
-    fprintf(fp, "Started                  %s\n\n", when);
+    if (run && run->started) {
+        fprintf(fp, "Started                  %s\n", run->started);
+        fprintf(fp, "Resumed                  %s\n\n", when);
+    } else {
+        fprintf(fp, "Started                  %s\n\n", when);
+    }
     if (run) {
         fprintf(fp, "Run\n");
         fprintf(fp, "  %-22s %s\n", "scene file", run->scene_path ? run->scene_path : "(none)");
@@ -290,6 +295,11 @@ static void cr_info_header(FILE *fp, const cr_run_info *run, const cr_scene *sce
         fprintf(fp, "  %-22s %d x %d pixels\n", "frame size", run->width, run->height);
         fprintf(fp, "  %-22s %d\n", "frames", run->frames);
         fprintf(fp, "  %-22s %s\n", "output types", run->output_types ? run->output_types : "");
+        if (run->hash)
+            fprintf(fp, "  %-22s %s\n", "run hash", run->hash);
+        if (run->stale)
+            fprintf(fp, "  %-22s %s (from an earlier run; not overwritten, not deleted)\n",
+                    "stale files", run->stale);
         fprintf(fp, "\n");
     }
     if (scene) {
@@ -305,15 +315,20 @@ static void cr_info_header(FILE *fp, const cr_run_info *run, const cr_scene *sce
 /* One frame's record: its statistics, then how far the run got once it
  * finished (n_done frames of frames; frames 0: not known), then a blank
  * line. */
-static void cr_info_record(FILE *fp, const cr_frame_stats *st, int n_done, int frames)
+static void cr_info_finished(FILE *fp, int n_done, int frames)
 {
-    cr_info_frame(fp, st->frame, st);
     if (frames > 0)
         fprintf(fp, "Finished %d of %d frames%s\n", n_done, frames,
                 n_done < frames ? " (run incomplete)" : "");
     else
         fprintf(fp, "Finished %d frames\n", n_done);
     fprintf(fp, "\n");
+}
+
+static void cr_info_record(FILE *fp, const cr_frame_stats *st, int n_done, int frames)
+{
+    cr_info_frame(fp, st->frame, st);
+    cr_info_finished(fp, n_done, frames);
 }
 
 /* Finish a text made with open_memstream: 0, or -1 (the text freed and NULL)
@@ -370,6 +385,36 @@ int cr_info_add_frame(cr_info *info, const cr_frame_stats *st, cr_err *err)
     free(text);
     if (rc == 0)
         info->n_done++;
+    return rc;
+}
+
+int cr_info_resume(cr_info *info, char *const *bodies, const int *order, int n, cr_err *err)
+{
+    char *text = NULL;
+    size_t len = 0;
+    FILE *fp;
+    int rc;
+
+    if (n <= 0)
+        return 0;
+    if (!info->header)
+        return cr_err_set(err, "writing %s: info.txt was not begun", info->path);
+    if (info->file.fd >= 0)
+        return 0;
+    fp = open_memstream(&text, &len);
+    if (!fp)
+        return cr_err_set(err, "info.txt: out of memory");
+    fwrite(info->header, 1, info->header_len, fp);
+    for (int i = 0; i < n; i++) {
+        fputs(bodies[order[i]], fp);
+        cr_info_finished(fp, i + 1, info->frames);
+    }
+    if (cr_text_close(fp, &text, err) != 0)
+        return -1;
+    rc = cr_appender_create(&info->file, info->path, text, len, err);
+    free(text);
+    if (rc == 0)
+        info->n_done = n;
     return rc;
 }
 

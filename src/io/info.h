@@ -53,6 +53,9 @@ typedef struct cr_run_info {
     int width, height, frames;
     const char *output_types;
     const char *version;
+    const char *hash;    /* run hash (16 hex digits; --resume checks it), or NULL */
+    const char *stale;   /* frame files in the folder this run does not overwrite, or NULL */
+    const char *started; /* a resumed run: the earlier run's start time, or NULL */
 } cr_run_info;
 
 /* info.txt of one run, open from cr_info_begin to cr_info_end. */
@@ -81,6 +84,13 @@ int cr_info_add_frame(cr_info *info, const cr_frame_stats *st, cr_err *err);
  * cr_info_begin, when no frame was recorded, and on a zeroed cr_info that
  * was never begun; -1 only if the fsync or close fails. */
 int cr_info_end(cr_info *info, cr_err *err);
+
+/* A resumed run (--resume): write the header and then the records kept from
+ * the earlier run, bodies[order[0..n-1]] (each a record without its
+ * "Finished" line, as read back), atomically, and continue from there: the
+ * next cr_info_add_frame appends with the count after them. n == 0 writes
+ * nothing (the file is replaced with the first new record). */
+int cr_info_resume(cr_info *info, char *const *bodies, const int *order, int n, cr_err *err);
 
 /* The whole info.txt in one go, written atomically: the header, then
  * stats[0..n_done-1] in the given order (with several GPUs the frames need

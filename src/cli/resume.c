@@ -1,0 +1,356 @@
+/* curray cli: stale frame files, the run hash and resuming (resume.h). */
+#include "resume.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <inttypes.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <unistd.h>
+
+#include "../io/fsutil.h"
+
+/* Output types with one file per frame, and their extensions. */
+static const struct {
+    char type;
+    const char *ext;
+} cr_frame_types[] = {{'c', "png"}, {'r', "png"}, {'d', "csv"}, {'b', "png"}};
+
+#define CR_N_FRAME_TYPES (sizeof cr_frame_types / sizeof cr_frame_types[0])
+
+int cr_frame_file_name(char t, int k, char *out, size_t n)
+{
+    for (size_t i = 0; i < CR_N_FRAME_TYPES; i++)
+        if (cr_frame_types[i].type == t) {
+            int len = snprintf(out, n, "%c_%d.%s", t, k, cr_frame_types[i].ext);
+            return len < 0 || (size_t)len >= n ? -1 : 0;
+        }
+    return -1;
+}
+
+int cr_file_exists(const char *dir, const char *name)
+{
+    char path[4096];
+    return cr_path_join(path, sizeof path, dir, name) == 0 && access(path, F_OK) == 0;
+}
+
+/* If name is a frame file "<t>_<k>.<ext>", its type and frame; else -1. */
+static int cr_parse_frame_name(const char *name, char *t, long *k)
+{
+    char ext[8], again[64];
+    int end = 0;
+    long v;
+    if (sscanf(name, "%c_%ld.%7[a-z]%n", t, &v, ext, &end) != 3 || name[end] != '\0' || v < 0 ||
+        v > 0x7fffffffL)
+        return -1;
+    /* the canonical spelling only: "c_07.png" is not a frame file */
+    if (cr_frame_file_name(*t, (int)v, again, sizeof again) != 0 || strcmp(again, name) != 0)
+        return -1;
+    *k = v;
+    return 0;
+}
+
+static int cr_long_cmp(const void *a, const void *b)
+{
+    long x = *(const long *)a, y = *(const long *)b;
+    return (x > y) - (x < y);
+}
+
+/* "4-7, 9" from sorted frame numbers. */
+static void cr_put_ranges(FILE *fp, const long *v, size_t n)
+{
+    for (size_t i = 0; i < n;) {
+        size_t j = i;
+        while (j + 1 < n && v[j + 1] == v[j] + 1)
+            j++;
+        fprintf(fp, "%s%ld", i ? ", " : "", v[i]);
+        if (j > i)
+            fprintf(fp, "-%ld", v[j]);
+        i = j + 1;
+    }
+}
+
+int cr_stale_scan(const char *dir, int frames, const char *types, char **text)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    long *ks[CR_N_FRAME_TYPES] = {NULL};
+    size_t nk[CR_N_FRAME_TYPES] = {0}, cap[CR_N_FRAME_TYPES] = {0};
+    int total = 0, rc = 0;
+    size_t len = 0;
+    FILE *fp;
+
+    *text = NULL;
+    if (!d)
+        return 0;
+    while ((e = readdir(d)) != NULL) {
+        char t;
+        long k;
+        size_t i;
+        if (cr_parse_frame_name(e->d_name, &t, &k) != 0)
+            continue;
+        if (strchr(types, t) && k < frames)
+            continue; /* this run writes it */
+        for (i = 0; cr_frame_types[i].type != t; i++)
+            ;
+        if (nk[i] == cap[i]) {
+            size_t c = cap[i] ? 2 * cap[i] : 16;
+            long *p = realloc(ks[i], c * sizeof *p);
+            if (!p) {
+                rc = -1;
+                break;
+            }
+            ks[i] = p;
+            cap[i] = c;
+        }
+        ks[i][nk[i]++] = k;
+        total++;
+    }
+    closedir(d);
+    if (rc == 0 && total > 0 && (fp = open_memstream(text, &len)) != NULL) {
+        int first = 1;
+        for (size_t i = 0; i < CR_N_FRAME_TYPES; i++) {
+            if (!nk[i])
+                continue;
+            qsort(ks[i], nk[i], sizeof *ks[i], cr_long_cmp);
+            fprintf(fp, "%s%c_<k>.%s for k = ", first ? "" : "; ", cr_frame_types[i].type,
+                    cr_frame_types[i].ext);
+            cr_put_ranges(fp, ks[i], nk[i]);
+            first = 0;
+        }
+        if (fclose(fp) != 0) {
+            free(*text);
+            *text = NULL;
+            rc = -1;
+        }
+    } else if (rc == 0 && total > 0) {
+        rc = -1;
+    }
+    for (size_t i = 0; i < CR_N_FRAME_TYPES; i++)
+        free(ks[i]);
+    return rc ? -1 : total;
+}
+
+int cr_remove_dead_temps(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    int n = 0;
+    if (!d)
+        return 0;
+    while ((e = readdir(d)) != NULL) {
+        const char *tmp = e->d_name[0] == '.' ? strstr(e->d_name, ".tmp.") : NULL;
+        char path[4096];
+        long pid;
+        char inner[256], t;
+        long k;
+        size_t len = tmp ? (size_t)(tmp - e->d_name) - 1 : 0;
+        if (!tmp || len == 0 || len >= sizeof inner ||
+            sscanf(tmp, ".tmp.%ld.", &pid) != 1 || pid <= 0 || pid == (long)getpid())
+            continue;
+        /* only curray's own outputs: a frame file, info.txt or a video */
+        memcpy(inner, e->d_name + 1, len);
+        inner[len] = '\0';
+        if (cr_parse_frame_name(inner, &t, &k) != 0 && strcmp(inner, "info.txt") != 0 &&
+            (len < 4 || strcmp(inner + len - 4, ".mp4") != 0))
+            continue;
+        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH)
+            continue; /* still running, or not ours to judge */
+        if (cr_path_join(path, sizeof path, dir, e->d_name) == 0 && unlink(path) == 0)
+            n++;
+    }
+    closedir(d);
+    return n;
+}
+
+/* FNV-1a, 64 bits. */
+static void cr_fnv(uint64_t *h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++) {
+        *h ^= p[i];
+        *h *= 0x100000001b3ULL;
+    }
+}
+
+static int cr_fnv_file(uint64_t *h, const char *path, cr_err *err)
+{
+    unsigned char buf[65536];
+    size_t n;
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return cr_err_set(err, "run hash: cannot read '%s': %s", path, strerror(errno));
+    while ((n = fread(buf, 1, sizeof buf, fp)) > 0)
+        cr_fnv(h, buf, n);
+    n = (size_t)ferror(fp);
+    fclose(fp);
+    if (n)
+        return cr_err_set(err, "run hash: cannot read '%s'", path);
+    return 0;
+}
+
+int cr_run_hash(const cr_scene *scene, const cr_sysconfig *cfg, long width, long height,
+                long frames, const char *types, int use_cuda, const char *extra, char out[17],
+                cr_err *err)
+{
+    uint64_t h = 0xcbf29ce484222325ULL;
+    char text[512], set[32] = "";
+    const char *all = "icrdbfv";
+    size_t n = 0;
+    /* the set of output types, in a fixed order */
+    for (const char *p = all; *p; p++)
+        if (strchr(types, *p) && n + 1 < sizeof set)
+            set[n++] = *p;
+    set[n] = '\0';
+    if (scene->path && cr_fnv_file(&h, scene->path, err))
+        return -1;
+    if (scene->has_sky && scene->sky_image && cr_fnv_file(&h, scene->sky_image, err))
+        return -1;
+    snprintf(text, sizeof text,
+             "|integrator %d tolerance %.17g step %.17g eps %.17g max_steps %ld max_turns %.17g "
+             "samples %d|size %ldx%ld frames %ld types %s backend %s|%s",
+             cfg->integrator, cfg->tolerance, cfg->step_multiplier, cfg->horizon_epsilon,
+             cfg->max_steps, cfg->max_turns, cfg->samples, width, height, frames, set,
+             use_cuda ? "cuda" : "cpu", extra ? extra : "");
+    cr_fnv(&h, text, strlen(text));
+    snprintf(out, 17, "%016" PRIx64, h);
+    return 0;
+}
+
+/* The whole file, NUL-terminated; NULL with errno when it cannot be read. */
+static char *cr_read_text(const char *path)
+{
+    FILE *fp = fopen(path, "rb");
+    char *buf = NULL;
+    size_t len = 0, cap = 0, n;
+    if (!fp)
+        return NULL;
+    for (;;) {
+        if (cap - len < 4097) {
+            char *p = realloc(buf, cap ? 2 * cap : 65536);
+            if (!p) {
+                free(buf);
+                fclose(fp);
+                errno = ENOMEM;
+                return NULL;
+            }
+            buf = p;
+            cap = cap ? 2 * cap : 65536;
+        }
+        n = fread(buf + len, 1, cap - len - 1, fp);
+        len += n;
+        if (n == 0)
+            break;
+    }
+    if (ferror(fp)) {
+        free(buf);
+        fclose(fp);
+        errno = EIO;
+        return NULL;
+    }
+    fclose(fp);
+    buf[len] = '\0';
+    return buf;
+}
+
+int cr_resume_load(cr_resume *r, const char *dir, const char *hash, int frames, cr_err *err)
+{
+    char path[4096], *text, *p, *line;
+    const char *key = "\n  run hash ";
+    memset(r, 0, sizeof *r);
+    r->frames = frames;
+    if (cr_path_join(path, sizeof path, dir, "info.txt") != 0)
+        return cr_err_set(err, "output folder name too long: '%s'", dir);
+    text = cr_read_text(path);
+    if (!text) {
+        if (errno == ENOENT)
+            return cr_err_set(err,
+                              "--resume: no earlier run to resume in %s (no info.txt); run "
+                              "without --resume",
+                              dir);
+        return cr_err_set(err, "--resume: cannot read %s: %s", path, strerror(errno));
+    }
+    p = strstr(text, key);
+    if (!p) {
+        free(text);
+        return cr_err_set(err,
+                          "--resume: %s has no run hash (written by an older curray, or not "
+                          "by curray); run without --resume",
+                          path);
+    }
+    p += strlen(key);
+    p += strspn(p, " ");
+    if (strncmp(p, hash, 16) != 0) {
+        char old[17];
+        snprintf(old, sizeof old, "%.16s", p);
+        free(text);
+        return cr_err_set(err,
+                          "--resume: %s is from another run: its run hash is %s, this run's "
+                          "is %s (the scene or sky image, the raytracer configuration, the "
+                          "size, the frame count, the output types or the backend differ); "
+                          "run without --resume, or use another output folder",
+                          path, old, hash);
+    }
+    if ((p = strstr(text, "\nStarted ")) != NULL || strncmp(text, "Started ", 8) == 0) {
+        p = p ? p + 9 : text + 8;
+        p += strspn(p, " ");
+        snprintf(r->started, sizeof r->started, "%.*s", (int)strcspn(p, "\n"), p);
+    }
+    r->order = calloc((size_t)frames, sizeof *r->order);
+    r->body = calloc((size_t)frames, sizeof *r->body);
+    if (!r->order || !r->body) {
+        free(text);
+        cr_resume_free(r);
+        return cr_err_set(err, "--resume: out of memory");
+    }
+    /* records: "Frame <k>\n" ... up to the line "Finished ..." */
+    for (line = text; line && *line; line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL) {
+        int k, end = 0;
+        char *fin;
+        if (sscanf(line, "Frame %d%n", &k, &end) != 1 || line[end] != '\n' || k < 0 ||
+            k >= frames)
+            continue;
+        fin = strstr(line, "\nFinished ");
+        if (!fin)
+            break; /* cannot happen with whole records; take nothing more */
+        if (!r->body[k]) {
+            r->body[k] = strndup(line, (size_t)(fin + 1 - line));
+            if (!r->body[k]) {
+                free(text);
+                cr_resume_free(r);
+                return cr_err_set(err, "--resume: out of memory");
+            }
+            r->order[r->n_records++] = k;
+        }
+        line = fin + 1;
+    }
+    free(text);
+    return 0;
+}
+
+void cr_resume_drop(cr_resume *r, int k)
+{
+    int i, j;
+    if (k < 0 || k >= r->frames || !r->body || !r->body[k])
+        return;
+    free(r->body[k]);
+    r->body[k] = NULL;
+    for (i = j = 0; i < r->n_records; i++)
+        if (r->order[i] != k)
+            r->order[j++] = r->order[i];
+    r->n_records = j;
+}
+
+void cr_resume_free(cr_resume *r)
+{
+    if (r->body)
+        for (int k = 0; k < r->frames; k++)
+            free(r->body[k]);
+    free(r->body);
+    free(r->order);
+    memset(r, 0, sizeof *r);
+}

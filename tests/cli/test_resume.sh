@@ -1,0 +1,153 @@
+#!/usr/bin/env bash
+# Output folders that already hold frames (issue 14): stale frame files are
+# reported and kept; --resume after kill -9 in the middle of frame 2 of 4
+# gives the files of an uninterrupted run; a changed scene or size is refused.
+#
+#   bash tests/cli/test_resume.sh path/to/curray [repository root]
+#
+# "The same files" means: every c_<k>.png, r_<k>.png and d_<k>.csv byte for
+# byte, and info.txt line for line after dropping the lines that hold times
+# (Started, Resumed, and each frame's "wall time" and "rays per second").
+# About 10 s (4 frames of 320x240 on one thread, twice).
+set -u
+
+CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+ROOT=$(cd "${2:-$(dirname "$0")/../..}" && pwd)
+[ -x "$CURRAY" ] || { echo "test_resume: no curray binary at $CURRAY" >&2; exit 2; }
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/curray-test-resume.XXXXXX")
+trap 'rm -rf "$WORK"' EXIT
+cd "$WORK" || exit 2
+
+passed=0 failed=0
+OUT="" RC=0
+ok() { echo "ok   $1"; passed=$((passed + 1)); }
+bad() { echo "FAIL $1: $2"; [ -n "$OUT" ] && echo "$OUT" | sed 's/^/       | /'; failed=$((failed + 1)); }
+run() { OUT=$(timeout 120 "$CURRAY" "$@" </dev/null 2>&1); RC=$?; }
+has() { case "$OUT" in *"$1"*) return 0 ;; *) return 1 ;; esac; }
+untimed() { grep -vE '^(Started|Resumed) |^  (wall time|rays per second) ' "$1"; }
+# same_run A B: the frame files of 4 frames and the untimed info.txt agree
+same_run() {
+    local f
+    for f in c_{0..3}.png r_{0..3}.png d_{0..3}.csv; do
+        cmp -s "$1/$f" "$2/$f" || { echo "$f differs"; return 1; }
+    done
+    diff <(untimed "$1/info.txt") <(untimed "$2/info.txt") || return 1
+}
+
+cp "$ROOT/scenes/demo.yml" scene.yml
+ARGS=(-s scene.yml -x 320 -y 240 -f 4 -t icrd --threads 1 -a)
+
+# --- stale frames --------------------------------------------------------
+run -s scene.yml -o stale -x 16 -y 12 -f 4 -t icrd -a
+run -s scene.yml -o stale -x 16 -y 12 -f 2 -t icr -a
+if [ $RC = 0 ] && has "stale holds 8 frame files that this run does not overwrite" &&
+   has "c_<k>.png for k = 2-3; r_<k>.png for k = 2-3; d_<k>.csv for k = 0-3" &&
+   grep -q "^  stale files  *c_<k>.png for k = 2-3; r_<k>.png for k = 2-3; d_<k>.csv for k = 0-3" stale/info.txt &&
+   [ -f stale/c_3.png ] && [ -f stale/d_0.csv ]; then
+    ok "stale frame files are reported (console, info.txt) and kept"
+else
+    bad "stale frame files" "rc $RC"
+fi
+run -s scene.yml -o stale -x 16 -y 12 -f 4 -t icrd -a
+if [ $RC = 0 ] && ! has "does not overwrite" && ! grep -q "stale files" stale/info.txt; then
+    ok "no warning when the run overwrites every frame file"
+else
+    bad "no stale warning" "rc $RC"
+fi
+
+# --- the uninterrupted reference -----------------------------------------
+run "${ARGS[@]}" -o full
+[ $RC = 0 ] || bad "uninterrupted run" "rc $RC"
+
+# --- kill -9 in the middle of frame 2, then --resume ----------------------
+"$CURRAY" "${ARGS[@]}" -o part </dev/null >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 6000); do
+    grep -qx "Frame 1" part/info.txt 2>/dev/null && break
+    sleep 0.01
+done
+kill -9 $pid 2>/dev/null
+wait $pid 2>/dev/null
+if grep -qx "Frame 1" part/info.txt && ! grep -qx "Frame 2" part/info.txt && [ ! -e part/c_2.png ]; then
+    ok "killed with SIGKILL in the middle of frame 2 (frames 0 and 1 finished)"
+else
+    bad "kill in frame 2" "$(ls part; tail -3 part/info.txt)"
+fi
+# a temporary file of a killed curray goes; a user's file that looks alike stays
+dead=$(sh -c 'echo $$')
+: >"part/.c_2.png.tmp.$dead.1a.0"
+: >"part/.notes.txt.tmp.$dead.1a.0"
+run "${ARGS[@]}" -o part --resume
+if [ $RC = 0 ] && has "resuming: 2 of 4 frames finished by the earlier run, 2 to render" &&
+   same_run full part >"$WORK/diff.txt" 2>&1; then
+    ok "--resume renders frames 2 and 3; the files equal the uninterrupted run's"
+else
+    bad "--resume after kill -9" "rc $RC; $(cat "$WORK/diff.txt")"
+fi
+if [ ! -e "part/.c_2.png.tmp.$dead.1a.0" ] && [ -e "part/.notes.txt.tmp.$dead.1a.0" ] &&
+   has "removed 1 temporary file left by a curray that was killed"; then
+    ok "temporary files of a killed curray are removed, other files kept"
+else
+    bad "dead temporaries" "$(ls -a part)"
+fi
+if grep -q "^Resumed " part/info.txt &&
+   [ "$(grep '^Started ' part/info.txt)" != "" ]; then
+    ok "info.txt keeps the first start and adds Resumed"
+else
+    bad "Started/Resumed lines" "$(head -3 part/info.txt)"
+fi
+rm -f "part/.notes.txt.tmp.$dead.1a.0"
+
+# a resumed run that finds everything done renders nothing and changes nothing
+cp part/c_3.png c3.before
+run "${ARGS[@]}" -o part --resume
+if [ $RC = 0 ] && has "resuming: 4 of 4 frames finished by the earlier run, 0 to render" &&
+   ! has "frame 3 of 4 done" && cmp -s c3.before part/c_3.png && same_run full part >/dev/null; then
+    ok "--resume of a finished run renders nothing"
+else
+    bad "--resume of a finished run" "rc $RC"
+fi
+
+# a frame whose file went missing is rendered again; its record moves to the
+# end of info.txt (records are in the order the frames finished)
+rm part/r_1.png
+run "${ARGS[@]}" -o part --resume
+if [ $RC = 0 ] && has "resuming: 3 of 4 frames" && cmp -s full/r_1.png part/r_1.png &&
+   [ "$(grep -E '^Frame [0-9]+$' part/info.txt | tr '\n' ' ')" = "Frame 0 Frame 2 Frame 3 Frame 1 " ] &&
+   [ "$(tail -2 part/info.txt | head -1)" = "Finished 4 of 4 frames" ]; then
+    ok "--resume renders again a frame with a missing file"
+else
+    bad "--resume with a missing file" "rc $RC"
+fi
+
+# --- refusals ---------------------------------------------------------------
+sed 's/theta: 85 deg/theta: 80 deg/' scene.yml >changed.yml
+cp changed.yml scene2.yml
+run -s scene2.yml -o part -x 320 -y 240 -f 4 -t icrd --threads 1 -a --resume
+if [ $RC = 1 ] && has "--resume: part/info.txt is from another run" &&
+   cmp -s c3.before part/c_3.png; then
+    ok "--resume with a changed scene is refused"
+else
+    bad "--resume with a changed scene" "rc $RC"
+fi
+run -s scene.yml -o part -x 320 -y 200 -f 4 -t icrd --threads 1 -a --resume
+if [ $RC = 1 ] && has "is from another run"; then
+    ok "--resume with another size is refused"
+else
+    bad "--resume with another size" "rc $RC"
+fi
+run "${ARGS[@]}" -o empty --resume
+if [ $RC = 1 ] && has "--resume: no earlier run to resume in empty (no info.txt)"; then
+    ok "--resume with no earlier run is refused"
+else
+    bad "--resume with no earlier run" "rc $RC"
+fi
+run -s scene.yml -o part -x 320 -y 240 -f 4 -t crd --threads 1 -a --resume
+if [ $RC = 1 ] && has "--resume needs info.txt"; then
+    ok "--resume without output type i is refused"
+else
+    bad "--resume without i" "rc $RC"
+fi
+
+echo "$passed passed, $failed failed"
+[ $failed = 0 ]
