@@ -360,7 +360,7 @@ static void test_static_is_special_case(void **state)
         /* the frame's redshift of a static source (objects.h) against the
          * closed form sqrt(-g_tt)|e / sqrt(-g_tt)|o (ERRATA) */
         ref = sqrt(cr_metric_minus_gtt(&mt, re, the)) / sqrt(cr_metric_minus_gtt(&mt, ro, tho));
-        worst = fmax(worst, rel(cr_redshift_static(&f, pe, re, the), ref));
+        worst = fmax(worst, rel(cr_redshift_static(&f, pe, pe, re, the), ref));
         g = cr_shift_ratio(po, uo, pe, ue);
         worst = fmax(worst, rel(g, ref));
         /* the ray's covector -k gives the same ratio */

@@ -976,7 +976,7 @@ static void test_redshift_off_equator(void **state)
                    ? sqrt(kn_minus_gtt(1.0, a2, q2, r, th)) /
                          sqrt(kn_minus_gtt(1.0, a2, q2, ro, tho))
                    : -1.0;
-        got = cr_redshift_static(&f, pk, r, th);
+        got = cr_redshift_static(&f, pk, pk, r, th);
         worst = fmax(worst, fabs(got - want) / fabs(want));
     }
     /* cr_redshift_static is the general ratio (p.u_obs)/(p.u_em) of shift.h

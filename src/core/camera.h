@@ -1,4 +1,9 @@
-/* curray core: the static observer's frame and pixel -> initial ray (6.4, D).
+/* curray core: the observer's frame and pixel -> initial ray (6.4, D).
+ *
+ * A moving observer (observer.motion other than static) uses the boosted
+ * ZAMO tetrad of observer.h in place of the static frame below, and every
+ * projection other than the paper's flat screen maps pixels to directions
+ * as observer.h says; the camera axes and rotations are the same for all.
  *
  * Local orthonormal frame of the static observer (equivalent to D.25, see
  * ERRATA "Observer frame"):
@@ -20,12 +25,14 @@
  * Pixel (i, j), i = 0..W-1 left to right, j = 0..H-1 top to bottom, looks
  * through the point (sx, sy) of a screen at unit distance,
  *   sx = (2 (i + 1/2) / W - 1) tan(hfov/2),  sy = (1 - 2 (j + 1/2) / H) tan(vfov/2),
- * so the centre pixel of an odd-sized image looks straight ahead.
+ * so the centre pixel of an odd-sized image looks straight ahead (the
+ * rectilinear projection; observer.h has the others).
  */
 #ifndef CR_CORE_CAMERA_H
 #define CR_CORE_CAMERA_H
 
 #include "geodesic.h"
+#include "observer.h"
 
 /* Rotate v (3 components) by angle ang about the unit axis k (right-hand
  * rule, Rodrigues' formula). */
@@ -59,8 +66,12 @@ CR_HD static inline void cr_rotate_rpy(double (*v)[3], int n, double roll, doubl
 
 /* Fill the observer-derived fields of f: tetrad, rotated camera axes, screen
  * half-extents, sqrt(-g_tt) at the observer, on-axis and at-infinity flags.
- * Requires a static observer outside the ergosurface (checked by the scene
- * validation), or one at r = +INFINITY (no tetrad needed there). */
+ * Requires a static observer outside the ergosurface, a moving one outside
+ * the horizon with a velocity that exists there (|v| < 1, checked by the
+ * scene validation), or one at r = +INFINITY (no tetrad needed there). A
+ * moving observer's tetrad is the boosted ZAMO tetrad of observer.h;
+ * obs_sqrt_mgtt is then 1 / u^t (sqrt(-g_tt) for the static observer, whose
+ * u^t = 1/sqrt(-g_tt); positive everywhere outside the horizon). */
 CR_HD static inline void cr_camera_prepare(cr_frame *f)
 {
     const cr_observer *o = &f->observer;
@@ -87,19 +98,35 @@ CR_HD static inline void cr_camera_prepare(cr_frame *f)
         f->tan_half_v = 0.5 * o->vextent;
         return;
     }
-    cr_metric_eval(&f->metric, o->r, o->theta, &p);
-    f->obs_sqrt_mgtt = sqrt(-p.g_tt);
-    f->tetrad[0][0] = 1.0 / f->obs_sqrt_mgtt;
-    f->tetrad[1][1] = 1.0 / sqrt(p.g_rr);
-    f->tetrad[2][2] = 1.0 / sqrt(p.g_thth);
-    if (!f->obs_on_axis) {
-        double n = sqrt(p.delta * p.sin2 / -p.g_tt);
-        f->tetrad[3][0] = -(p.g_tph / p.g_tt) / n;
-        f->tetrad[3][3] = 1.0 / n;
+    if (o->motion != CR_MOTION_STATIC) {
+        double e[4][4], v[3];
+        cr_zamo_tetrad(&f->metric, o->r, o->theta, f->obs_on_axis, e, NULL, NULL, NULL);
+        cr_observer_zamo_velocity(&f->metric, o, f->obs_on_axis, v);
+        cr_boost_tetrad(e, v, f->tetrad);
+        f->obs_sqrt_mgtt = 1.0 / f->tetrad[0][0];
+    } else {
+        cr_metric_eval(&f->metric, o->r, o->theta, &p);
+        f->obs_sqrt_mgtt = sqrt(-p.g_tt);
+        f->tetrad[0][0] = 1.0 / f->obs_sqrt_mgtt;
+        f->tetrad[1][1] = 1.0 / sqrt(p.g_rr);
+        f->tetrad[2][2] = 1.0 / sqrt(p.g_thth);
+        if (!f->obs_on_axis) {
+            double n = sqrt(p.delta * p.sin2 / -p.g_tt);
+            f->tetrad[3][0] = -(p.g_tph / p.g_tt) / n;
+            f->tetrad[3][3] = 1.0 / n;
+        }
     }
     cr_rotate_rpy(f->cam, 3, o->roll, o->pitch, o->yaw);
-    f->tan_half_h = tan(0.5 * o->hfov);
-    f->tan_half_v = tan(0.5 * o->vfov);
+    if (o->projection == CR_PROJ_EQUIRECT) {
+        f->tan_half_h = CR_PI;
+        f->tan_half_v = 0.5 * CR_PI;
+    } else if (o->projection == CR_PROJ_FISHEYE) {
+        f->tan_half_h = 0.5 * o->hfov;
+        f->tan_half_v = 0.5 * o->vfov;
+    } else {
+        f->tan_half_h = tan(0.5 * o->hfov);
+        f->tan_half_v = tan(0.5 * o->vfov);
+    }
 }
 
 /* Screen coordinates of pixel (i, j): on the screen at unit distance of a
@@ -112,20 +139,44 @@ CR_HD static inline void cr_camera_screen(const cr_frame *f, double i, double j,
     *sy = (1.0 - 2.0 * (j + 0.5) / f->height) * f->tan_half_v;
 }
 
-/* Unit direction, in the local (e_r, e_th, e_ph) basis, in which pixel (i, j)
- * looks (finite observers). */
+/* Unit direction, in the observer's local (e_r, e_th, e_ph) basis, in which
+ * pixel (i, j) looks (finite observers), under the frame's projection. */
 CR_HD static inline void cr_camera_pixel_dir(const cr_frame *f, double i, double j,
                                              double n[3])
 {
-    double sx, sy;
+    double sx, sy, c[3];
     double len;
     int k;
     cr_camera_screen(f, i, j, &sx, &sy);
+    if (f->observer.projection == CR_PROJ_RECTILINEAR) {
+        /* the paper's screen, kept operation for operation */
+        for (k = 0; k < 3; k++)
+            n[k] = f->cam[0][k] + sx * f->cam[1][k] + sy * f->cam[2][k];
+        len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (k = 0; k < 3; k++)
+            n[k] /= len;
+        return;
+    }
+    cr_projection_dir(f->observer.projection, sx, sy, c);
     for (k = 0; k < 3; k++)
-        n[k] = f->cam[0][k] + sx * f->cam[1][k] + sy * f->cam[2][k];
-    len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        n[k] = c[0] * f->cam[0][k] + c[1] * f->cam[1][k] + c[2] * f->cam[2][k];
+}
+
+/* The inverse of cr_camera_pixel_dir: the fractional pixel (i, j) in which
+ * the local direction n (any length > 0) is seen. Returns 0 where the
+ * projection does not show n (cr_projection_screen), else 1. */
+CR_HD static inline int cr_camera_dir_pixel(const cr_frame *f, const double n[3], double *i,
+                                            double *j)
+{
+    double c[3], sx, sy;
+    int k;
     for (k = 0; k < 3; k++)
-        n[k] /= len;
+        c[k] = n[0] * f->cam[k][0] + n[1] * f->cam[k][1] + n[2] * f->cam[k][2];
+    if (!cr_projection_screen(f->observer.projection, c, &sx, &sy))
+        return 0;
+    *i = 0.5 * (sx / f->tan_half_h + 1.0) * f->width - 0.5;
+    *j = 0.5 * (1.0 - sy / f->tan_half_v) * f->height - 0.5;
+    return 1;
 }
 
 /* Initial state and constants of the backward ray that looks in the local

@@ -39,9 +39,30 @@ typedef struct cr_metric {
     double m, a, q;
 } cr_metric;
 
-/* A static observer at BL position (r, theta, phi). roll, pitch, yaw rotate
- * the camera (section 6.4, see camera.h); hfov, vfov are the full fields of
- * view in (0, pi). All angles in radians.
+/* How the observer moves (observer.motion; observer.h). Values are stable. */
+typedef enum cr_motion {
+    CR_MOTION_STATIC = 0,   /* at rest in BL coordinates (the paper's; default) */
+    CR_MOTION_ZAMO = 1,     /* the zero angular momentum observer */
+    CR_MOTION_ORBIT = 2,    /* circular equatorial geodesic (retrograde: sense) */
+    CR_MOTION_INFALL = 3,   /* falling from rest at infinity, E = 1, L = 0 */
+    CR_MOTION_VELOCITY = 4, /* the 3-velocity v measured by the ZAMO */
+    CR_MOTION_COUNT_ = 5
+} cr_motion;
+
+/* How pixels map to directions (observer.projection; observer.h). */
+typedef enum cr_projection {
+    CR_PROJ_RECTILINEAR = 0, /* flat pinhole screen (the paper's; default) */
+    CR_PROJ_FISHEYE = 1,     /* equidistant, fields of view up to 2 pi */
+    CR_PROJ_EQUIRECT = 2,    /* full sphere, 2 pi x pi */
+    CR_PROJ_COUNT_ = 3
+} cr_projection;
+
+/* An observer at BL position (r, theta, phi) moving as motion says (v: the
+ * 3-velocity measured by the ZAMO, for CR_MOTION_VELOCITY; retrograde: the
+ * sense of CR_MOTION_ORBIT), its camera mapping pixels by projection.
+ * roll, pitch, yaw rotate the camera (section 6.4, see camera.h); hfov, vfov
+ * are the full fields of view in (0, pi) (rectilinear), (0, 2 pi]
+ * (fisheye), unused (equirectangular). All angles in radians.
  * r = +INFINITY is the observer at infinity (Bardeen 1973): its image is the
  * plane of impact coordinates (alpha, beta), of full extents hextent x
  * vextent in units of M, centred on the hole; only roll applies there
@@ -52,6 +73,10 @@ typedef struct cr_observer {
     double roll, pitch, yaw;
     double hfov, vfov;
     double hextent, vextent;
+    int motion;     /* cr_motion */
+    int projection; /* cr_projection */
+    int retrograde;
+    double v[3];    /* (v_r, v_theta, v_phi), |v| < 1 */
 } cr_observer;
 
 /* Number of nodes of the disc flux table (orbit.h explains the choice). */
@@ -193,10 +218,13 @@ typedef struct cr_frame {
                              infinity, else 1 / r_max as for RK4 */
     int obs_at_inf;       /* observer.r is +INFINITY */
     double obs_sqrt_mgtt; /* sqrt(-g_tt) at the observer */
-    double tan_half_h, tan_half_v;
+    double tan_half_h, tan_half_v; /* screen half-extents (observer.h):
+                             tan(fov/2) rectilinear, fov/2 fisheye, pi and
+                             pi/2 equirectangular */
     double cam[3][3];     /* camera forward, right, up in the observer's local
                              orthonormal (e_r, e_theta, e_phi) basis */
-    double tetrad[4][4];  /* BL components of e_t, e_r, e_theta, e_phi */
+    double tetrad[4][4];  /* BL components of the observer's e_t (its
+                             4-velocity), e_r, e_theta, e_phi (observer.h) */
     int obs_on_axis;      /* +1 north pole, -1 south pole, 0 otherwise */
 } cr_frame;
 

@@ -181,37 +181,35 @@ CR_HD static inline void cr_frame_observer_velocity(const cr_frame *f, double u[
 }
 
 /* g = nu_obs / nu_em (shift.h, the one frequency ratio) of a photon with
- * covariant momentum p (at the emitter, any common scale and sign: the ray's
- * backward tangent -k serves) emitted by matter of 4-velocity u_em and
- * received by the frame's observer. The photon's p_t and p_phi are conserved
- * and the frame's observer has u^r = u^theta = 0, so the momentum at the
- * observer is (p_t, 0, 0, p_phi) as far as p . u_obs is concerned; an
- * observer with u^r or u^theta (issue 13) must add them here. -1 where the
- * ratio is undefined (cr_shift_ratio). */
-CR_HD static inline double cr_frame_shift(const cr_frame *f, const double p[4],
-                                          const double u_em[4])
+ * covariant momentum p at the emitter and p_obs at the observer (any common
+ * scale and sign: the ray's backward tangent -k serves; cr_ray keeps its
+ * p_obs) emitted by matter of 4-velocity u_em and received by the frame's
+ * observer. A moving observer (observer.h) may have u^r, u^theta != 0, so
+ * p_obs must be the ray's own momentum there; for an observer with
+ * u^r = u^theta = 0 (static, ZAMO, orbit, at infinity) only the conserved
+ * p_t, p_phi of p_obs enter, and p itself serves. -1 where the ratio is
+ * undefined (cr_shift_ratio). */
+CR_HD static inline double cr_frame_shift(const cr_frame *f, const double p_obs[4],
+                                          const double p[4], const double u_em[4])
 {
-    double u_obs[4], p_obs[4];
+    double u_obs[4];
     cr_frame_observer_velocity(f, u_obs);
-    p_obs[0] = p[0];
-    p_obs[1] = p_obs[2] = 0.0;
-    p_obs[3] = p[3];
     return cr_shift_ratio(p_obs, u_obs, p, u_em);
 }
 
 /* Redshift omega_r/omega_s (3.5.1, 6.9) of light with covariant momentum p
- * from a static source at (r, th) seen by the frame's observer: the one
+ * (p_obs at the observer, as for cr_frame_shift) from a static source at (r, th) seen by the frame's observer: the one
  * frequency ratio with the static emitter's 4-velocity. For the static
  * observer it equals sqrt(-g_tt)|source / sqrt(-g_tt)|observer (ERRATA) to
  * rounding, whatever p (tests/test_patterns.c). Returns -1 for a source
  * inside the ergosurface, where no static source exists. */
-CR_HD static inline double cr_redshift_static(const cr_frame *f, const double p[4], double r,
-                                              double th)
+CR_HD static inline double cr_redshift_static(const cr_frame *f, const double p_obs[4],
+                                              const double p[4], double r, double th)
 {
     double u_em[4];
     if (!cr_shift_static_velocity(&f->metric, r, th, u_em))
         return -1.0;
-    return cr_frame_shift(f, p, u_em);
+    return cr_frame_shift(f, p_obs, p, u_em);
 }
 
 #endif

@@ -110,14 +110,15 @@ CR_HD static inline int cr_disc_keplerian_prepare(cr_disc *d, const cr_metric *m
  * covariant momentum p (cr_ray_momentum) emitted by the Keplerian disc's
  * matter at BL radius r (theta = pi/2) and received by the frame's observer.
  * -1 where no circular orbit exists at r. */
-CR_HD static inline double cr_disc_keplerian_g(const cr_frame *f, const double p[4], double r)
+CR_HD static inline double cr_disc_keplerian_g(const cr_frame *f, const double p_obs[4],
+                                               const double p[4], double r)
 {
     double u_em[4];
     cr_orbit o;
     if (!cr_orbit_eval(&f->metric, f->disc.sense, r, &o))
         return -1.0;
     cr_orbit_velocity(&o, u_em);
-    return cr_frame_shift(f, p, u_em);
+    return cr_frame_shift(f, p_obs, p, u_em);
 }
 
 /* Colour of the Keplerian disc at radius r seen with ratio g: the blackbody
@@ -180,6 +181,10 @@ typedef struct cr_ray {
     /* Path recorder (cr_path, below): NULL except when one ray's path is
      * wanted (--trace, curray.trace); set by the ray's maker to NULL. */
     struct cr_path *path;
+    /* Covariant momentum at the observer (cr_ray_momentum of the first
+     * state), the observer's side of every frequency ratio (cr_frame_shift);
+     * set by cr_ray_mino_start and cr_ray_from_bl. */
+    double p_obs[4];
 } cr_ray;
 
 /* The state at fraction s in [0, 1] of the current step. */
@@ -403,6 +408,7 @@ CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
         ray->m[CR_M_NZ] = 0.0;
     cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
     ray->h_next = cr_mino_first_step(&ray->c, f->tolerance);
+    cr_ray_momentum(ray, ray->m, ray->p_obs);
 }
 
 /* The ray of the frame's integrator from the BL state y and constants g made
@@ -420,6 +426,7 @@ CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, cons
         cr_ray_mino_start(f, ray);
     } else {
         ray->kind = CR_INTEG_RK4;
+        cr_ray_momentum(ray, ray->y, ray->p_obs);
     }
 }
 
@@ -777,7 +784,7 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             {
                 double p[4], u_inf[4] = {1.0, 0.0, 0.0, 0.0};
                 cr_ray_momentum(ray, y, p);
-                px.redshift = cr_frame_shift(f, p, u_inf);
+                px.redshift = cr_frame_shift(f, ray->p_obs, p, u_inf);
             }
             break;
         }
@@ -826,7 +833,7 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
                 px.hit_phi = cr_wrap_2pi(ph);
                 px.color = cr_sphere_color(&f->spheres[hit_sphere], xs);
                 cr_ray_momentum(ray, ysp, p);
-                px.redshift = cr_redshift_static(f, p, rr, th);
+                px.redshift = cr_redshift_static(f, ray->p_obs, p, rr, th);
                 if (ray->path)
                     cr_path_step(f, ray, ray->path, s_sphere);
                 break;
@@ -846,11 +853,11 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             px.hit_phi = cr_wrap_2pi(ph);
             cr_ray_momentum(ray, ys, p);
             if (f->disc.model == CR_DISC_KEPLERIAN) {
-                px.redshift = cr_disc_keplerian_g(f, p, rr);
+                px.redshift = cr_disc_keplerian_g(f, ray->p_obs, p, rr);
                 px.color = cr_disc_keplerian_color(&f->disc, rr, px.redshift);
             } else {
                 px.color = cr_disc_color(&f->disc, rr, ph, side);
-                px.redshift = cr_redshift_static(f, p, rr, 0.5 * CR_PI);
+                px.redshift = cr_redshift_static(f, ray->p_obs, p, rr, 0.5 * CR_PI);
             }
             break;
         }

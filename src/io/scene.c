@@ -218,13 +218,63 @@ static int get_inf(cr_yaml *y, yaml_node_t *node, const char *path, const char *
     return 0;
 }
 
+/* One of names[0..n-1] (a string at path) into *out; what names the kind. */
+static int get_choice(cr_yaml *y, yaml_node_t *node, const char *path, const char *what,
+                      const char *const *names, int n, const char *expected, int *out,
+                      cr_err *err)
+{
+    const char *v;
+    char got[96];
+    int i;
+    if (cr_yaml_string(y, node, path, &v, err))
+        return -1;
+    for (i = 0; i < n; i++)
+        if (strcmp(v, names[i]) == 0) {
+            *out = i;
+            return 0;
+        }
+    cr_yaml_describe(node, got, sizeof got);
+    return cr_yaml_fail(y, node, path, err, "unknown %s %s (expected %s)", what, got, expected);
+}
+
+/* observer.motion: static | zamo | orbit | infall, or [v_r, v_theta, v_phi]
+ * (each a number or an animation [linear, start, end]). */
+static int parse_motion(cr_yaml *y, yaml_node_t *node, cr_scene *s, cr_err *err)
+{
+    static const char *const names[] = {"static", "zamo", "orbit", "infall"};
+    const char *path = "observer.motion";
+    if (node->type == YAML_SEQUENCE_NODE) {
+        yaml_node_t *it[3];
+        char sub[CR_YAML_PATH];
+        int i;
+        if (cr_yaml_list(y, node, path, 3,
+                         "a motion (static, zamo, orbit, infall) or a 3-velocity "
+                         "[v_r, v_theta, v_phi] measured by the ZAMO",
+                         it, NULL, err))
+            return -1;
+        for (i = 0; i < 3; i++) {
+            cr_yaml_path_index(sub, sizeof sub, path, i);
+            if (get_anim(y, it[i], sub, V_NUMBER, &s->obs_v[i], err))
+                return -1;
+        }
+        s->obs_motion = CR_MOTION_VELOCITY;
+        return 0;
+    }
+    return get_choice(y, node, path, "motion", names, 4,
+                      "one of: static, zamo, orbit, infall, or a 3-velocity "
+                      "[v_r, v_theta, v_phi] measured by the ZAMO",
+                      &s->obs_motion, err);
+}
+
 static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
                           cr_err *err)
 {
-    enum { R, THETA, PHI, ROLL, PITCH, YAW, HFOV, VFOV, HEXT, VEXT, N };
-    cr_yaml_field f[N] = {REQ("r"),     REQ("theta"), REQ("phi"),  OPT("roll"),
-                          OPT("pitch"), OPT("yaw"),   OPT("hfov"), OPT("vfov"),
-                          OPT("hextent"), OPT("vextent")};
+    enum { R, THETA, PHI, ROLL, PITCH, YAW, HFOV, VFOV, HEXT, VEXT, MOTION, PROJ, RETRO, N };
+    cr_yaml_field f[N] = {REQ("r"),       REQ("theta"),   REQ("phi"),        OPT("roll"),
+                          OPT("pitch"),   OPT("yaw"),     OPT("hfov"),       OPT("vfov"),
+                          OPT("hextent"), OPT("vextent"), OPT("motion"),     OPT("projection"),
+                          OPT("retrograde")};
+    static const char *const proj_names[] = {"rectilinear", "fisheye", "equirectangular"};
     const char *p = "observer";
     yaml_mark_t where;
     int inf, i;
@@ -233,6 +283,25 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
         get_inf(y, f[R].value, "observer.r", "the observer at infinity", &inf, err))
         return -1;
     where = key ? key->start_mark : map->start_mark;
+    if ((f[MOTION].value && parse_motion(y, f[MOTION].value, s, err)) ||
+        (f[PROJ].value &&
+         get_choice(y, f[PROJ].value, "observer.projection", "projection", proj_names, 3,
+                    "one of: rectilinear, fisheye, equirectangular", &s->obs_projection, err)) ||
+        (f[RETRO].value && cr_yaml_bool(y, f[RETRO].value, "observer.retrograde",
+                                        &s->obs_retrograde, err)))
+        return -1;
+    if (f[RETRO].value && s->obs_motion != CR_MOTION_ORBIT)
+        return cr_yaml_fail(y, f[RETRO].key_node, "observer.retrograde", err,
+                            "applies only to motion: orbit (the sense of the circular orbit)");
+    if (inf && s->obs_motion != CR_MOTION_STATIC)
+        return cr_yaml_fail(y, f[MOTION].value, "observer.motion", err,
+                            "the observer at infinity (r: inf) is static; give observer.r a "
+                            "finite value to move");
+    if (inf && s->obs_projection != CR_PROJ_RECTILINEAR)
+        return cr_yaml_fail(y, f[PROJ].value, "observer.projection", err,
+                            "the observer at infinity (r: inf) sees a flat image plane "
+                            "(rectilinear); give observer.r a finite value for a %s view",
+                            proj_names[s->obs_projection]);
     /* which keys apply depends on r: inf (hextent, vextent) or finite (hfov, vfov) */
     if (inf) {
         for (i = HFOV; i <= VFOV; i++)
@@ -255,7 +324,14 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
                         "finite r takes hfov (and vfov)",
                         err))
             return -1;
-        if (!f[HFOV].value)
+        if (s->obs_projection == CR_PROJ_EQUIRECT &&
+            refuse_keys(y, f, HFOV, VFOV, p,
+                        "an equirectangular view always shows the full sphere (360 x 180 "
+                        "deg); leave out hfov and vfov (an image twice as wide as high has "
+                        "square pixels)",
+                        err))
+            return -1;
+        if (!f[HFOV].value && s->obs_projection != CR_PROJ_EQUIRECT)
             return cr_yaml_fail_at(y, where, p, err, "missing required key 'hfov'");
     }
     if ((!inf && field_anim(y, &f[R], p, V_NUMBER, 0.0, &s->obs_r, err)) ||
@@ -760,6 +836,59 @@ static int frame_metric(const cr_scene *s, int k, int n, cr_metric *mt, cr_err *
     return 0;
 }
 
+/* The fisheye's field of view: (0, 360] deg. */
+static int check_fisheye_fov(const char *key, double v, const cr_scene *s, int k, int n,
+                             cr_err *err)
+{
+    if (!(v > 0.0 && v <= CR_TWO_PI * (1.0 + 1e-12)))
+        return frame_fail(err, s, k, n,
+                          "observer.%s = %g deg: a fisheye's field of view must lie above 0 and "
+                          "at most 360 deg (360 shows every direction; for a full panorama "
+                          "use projection: equirectangular)",
+                          key, DEG(v));
+    return 0;
+}
+
+/* A moving observer (motion other than static) at a finite r outside the
+ * horizon: does its motion exist there, with |v| < 1? */
+static int frame_motion(const cr_scene *s, int k, int n, const cr_metric *mt,
+                        const cr_observer *o, cr_err *err)
+{
+    double v[3], speed;
+    int on_axis = fabs(sin(o->theta)) < 1e-10;
+    if (o->motion == CR_MOTION_ORBIT) {
+        int sense = cr_orbit_sense(mt, !o->retrograde);
+        const char *name = o->retrograde ? "retrograde" : "prograde";
+        if (fabs(o->theta - 0.5 * CR_PI) > THETA_TOL)
+            return frame_fail(err, s, k, n,
+                              "observer.motion = orbit: circular orbits lie in the equatorial "
+                              "plane, but observer.theta = %g deg (need 90 deg)",
+                              DEG(o->theta));
+        if (!cr_observer_zamo_velocity(mt, o, on_axis, v))
+            return frame_fail(err, s, k, n,
+                              "observer.motion = orbit: no timelike circular orbit exists at "
+                              "observer.r = %g; %s circular orbits need r above the %s "
+                              "photon orbit r = %g",
+                              o->r, name, name, cr_orbit_r_photon(mt, sense));
+        return 0;
+    }
+    if (o->motion == CR_MOTION_VELOCITY) {
+        speed = sqrt(o->v[0] * o->v[0] + o->v[1] * o->v[1] + o->v[2] * o->v[2]);
+        if (!(speed < 1.0))
+            return frame_fail(err, s, k, n,
+                              "observer.motion = [%g, %g, %g]: the speed |v| = %.17g must be "
+                              "below 1 (the speed of light)",
+                              o->v[0], o->v[1], o->v[2], speed);
+        if (on_axis && (o->v[1] != 0.0 || o->v[2] != 0.0))
+            return frame_fail(err, s, k, n,
+                              "observer.motion = [%g, %g, %g]: on the polar axis (theta = %g "
+                              "deg) e_theta and e_phi are not defined; an observer there may "
+                              "move only along r (v_theta = v_phi = 0)",
+                              o->v[0], o->v[1], o->v[2], DEG(o->theta));
+    }
+    return 0;
+}
+
 static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, int width,
                           int height, cr_observer *o, cr_err *err)
 {
@@ -771,8 +900,13 @@ static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, 
         (!inf && eval(s->hfov, k, n, &o->hfov)) ||
         (!inf && s->has_vfov && eval(s->vfov, k, n, &o->vfov)) ||
         (inf && eval(s->hextent, k, n, &o->hextent)) ||
-        (inf && s->has_vextent && eval(s->vextent, k, n, &o->vextent)))
+        (inf && s->has_vextent && eval(s->vextent, k, n, &o->vextent)) ||
+        eval(s->obs_v[0], k, n, &o->v[0]) || eval(s->obs_v[1], k, n, &o->v[1]) ||
+        eval(s->obs_v[2], k, n, &o->v[2]))
         return frame_fail(err, s, k, n, "observer: a value is not a finite number");
+    o->motion = s->obs_motion;
+    o->projection = s->obs_projection;
+    o->retrograde = s->obs_retrograde;
     if (o->theta < -THETA_TOL || o->theta > CR_PI + THETA_TOL)
         return frame_fail(err, s, k, n, "observer.theta = %g deg lies outside 0 to 180 deg",
                           DEG(o->theta));
@@ -806,11 +940,25 @@ static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, 
                           "observer.r = %g with metric.m = %g is out of the range curray can "
                           "compute with (lengths are in units of M: keep r/M and M sensible)",
                           o->r, mt->m);
-    if (o->r <= re || !(mgtt > 0.0))
+    if (o->motion == CR_MOTION_STATIC && (o->r <= re || !(mgtt > 0.0)))
         return frame_fail(err, s, k, n,
                           "observer.r = %g at theta = %g deg is inside the ergosphere "
-                          "(r_E+ = %g): no static observer exists there",
+                          "(r_E+ = %g): no static observer exists there (observer.motion: "
+                          "zamo, orbit, infall or a velocity can be there)",
                           o->r, DEG(o->theta), re);
+    if (o->motion != CR_MOTION_STATIC && frame_motion(s, k, n, mt, o, err))
+        return -1;
+    if (o->projection == CR_PROJ_EQUIRECT) {
+        o->hfov = CR_TWO_PI;
+        o->vfov = CR_PI;
+        return 0;
+    }
+    if (o->projection == CR_PROJ_FISHEYE) {
+        if (!s->has_vfov) /* square pixels: the angle is linear in the pixel */
+            o->vfov = o->hfov * (double)height / (double)width;
+        return check_fisheye_fov("hfov", o->hfov, s, k, n, err) ||
+               check_fisheye_fov("vfov", o->vfov, s, k, n, err);
+    }
     if (check_fov("hfov", o->hfov, s, k, n, err))
         return -1;
     if (!s->has_vfov) /* (E.4.1): square pixels */

@@ -54,6 +54,11 @@ typedef struct cr_scene {
     cr_anim vextent;                   /* r: inf only, optional: has_vextent == 0 ->
                                           hextent * height / width (square pixels) */
     int has_vextent;
+    int obs_motion;      /* cr_motion, default CR_MOTION_STATIC (observer.motion) */
+    cr_anim obs_v[3];    /* CR_MOTION_VELOCITY: (v_r, v_theta, v_phi) measured by
+                            the ZAMO, each animatable */
+    int obs_retrograde;  /* CR_MOTION_ORBIT: against the hole's spin */
+    int obs_projection;  /* cr_projection, default CR_PROJ_RECTILINEAR */
 
     int has_disc;
     cr_rgb disc_color1, disc_color2; /* color2 defaults to (E.4.2) with ERRATA 3 */
