@@ -7,6 +7,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "../io/fits.h"
 #include "../io/sysconfig.h"
 
 enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS, OPT_RESUME, OPT_TRACE };
@@ -56,7 +57,9 @@ void cr_cli_usage(const char *prog, FILE *out)
             "  -f, --frames N          number of frames; animated values run from their\n"
             "                          start (frame 0) to their end (frame N-1); default 1\n"
             "  -t, --output_type SET   any of i (info.txt), c (c_<k>.png colour),\n"
-            "                          r (r_<k>.png redshift), d (d_<k>.csv pixel data);\n"
+            "                          r (r_<k>.png redshift), d (d_<k>.csv pixel data),\n"
+            "                          f (f_<k>.fits: redshift, hit, outcome, steps, error);\n"
+            "                          v (c.mp4, plus r.mp4 with r: MP4 videos);\n"
             "                          default icr\n"
             "  -c, --config FILE       system configuration (default: config.yml if present)\n"
             "  -v, --verbose BOOL      more detail on the console and in the log\n"
@@ -220,11 +223,13 @@ int cr_cli_check_render(const cr_cli *c, cr_err *err)
         return 0; /* -t is not used */
     }
     if (!c->output_type[0])
-        return cr_err_set(err, "-t: empty output type; use any of i, c, r, d");
+        return cr_err_set(err, "-t: empty output type; use any of i, c, r, d, f, v");
     for (p = c->output_type; *p; p++)
-        if (!strchr("icrd", *p))
-            return cr_err_set(err, "-t: unknown output type '%c' in '%s'; use any of i, c, r, d",
+        if (!strchr("icrdfv", *p))
+            return cr_err_set(err, "-t: unknown output type '%c' in '%s'; use any of i, c, r, d, f, v",
                               *p, c->output_type);
+    if (strchr(c->output_type, 'f') && !cr_fits_available())
+        return cr_err_set(err, CR_FITS_MISSING);
     return 0;
 }
 

@@ -26,6 +26,7 @@
 
 #include "../cpu/render_cpu.h"
 #include "../cuda/gpu.h"
+#include "../io/fits.h"
 #include "../io/fsutil.h"
 #include "../io/log.h"
 #include "../io/output.h"
@@ -147,7 +148,7 @@ static void cr_remove_frame_files(const cr_run *run, int k, const char *types)
 {
     char name[64], path[4096];
     for (; *types; types++) {
-        snprintf(name, sizeof name, "%c_%d.%s", *types, k, *types == 'd' ? "csv" : "png");
+        snprintf(name, sizeof name, "%c_%d.%s", *types, k, *types == 'd' ? "csv" : *types == 'f' ? "fits" : "png");
         if (cr_path_join(path, sizeof path, run->cli.output_dir, name) == 0)
             unlink(path);
     }
@@ -162,13 +163,16 @@ static int cr_write_frame_file(cr_worker *w, char t, int k, const cr_pixel *px, 
     const char *dir = run->cli.output_dir;
     char name[64];
     int rc;
-    snprintf(name, sizeof name, "%c_%d.%s", t, k, t == 'd' ? "csv" : "png");
+    snprintf(name, sizeof name, "%c_%d.%s", t, k, t == 'd' ? "csv" : t == 'f' ? "fits" : "png");
     if (cr_interrupt_file_begin(&run->intr, w->slot, name))
         return cr_err_set(err, "interrupted");
     if (t == 'c')
         rc = cr_output_color_png(dir, k, px, width, height, err);
     else if (t == 'r')
         rc = cr_output_redshift_png(dir, k, px, width, height, err);
+    else if (t == 'f')
+        rc = cr_output_fits(dir, k, (int)run->cli.frames, &run->scene, &run->ts, px, width,
+                            height, err);
     else
         rc = cr_output_csv(dir, k, px, width, height, err);
     cr_interrupt_file_end(&run->intr, w->slot, rc == 0, 0);
@@ -244,10 +248,10 @@ static void cr_worker_idle(cr_worker *w)
 static int cr_output_frame(cr_worker *w, int k, const cr_pixel *px, int width, int height,
                            double seconds, cr_err *err)
 {
-    static const char types[] = "crd";
+    static const char types[] = "crdf";
     cr_run *run = w->run;
     cr_frame_stats st;
-    char written[4] = "";
+    char written[5] = "";
     int n_written = 0, i;
     cr_frame_stats_compute(px, (long long)width * height, seconds, &st);
     st.frame = k;

@@ -1,0 +1,199 @@
+/* curray io: f_<k>.fits (fits.h). */
+#include "fits.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/trace.h"
+#include "atomic.h"
+#include "fsutil.h"
+#include "info.h"
+#include "sysconfig.h"
+
+#ifndef CURRAY_HAVE_FITS
+
+int cr_fits_available(void)
+{
+    return 0;
+}
+
+int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_trace_settings *ts,
+                   const cr_pixel *px, int w, int h, cr_err *err)
+{
+    (void)dir, (void)k, (void)n, (void)s, (void)ts, (void)px, (void)w, (void)h;
+    return cr_err_set(err, CR_FITS_MISSING);
+}
+
+#else
+
+#include <fitsio.h>
+
+int cr_fits_available(void)
+{
+    return 1;
+}
+
+/* Quantities of the image extensions. */
+enum { CR_F_REDSHIFT, CR_F_HIT_R, CR_F_HIT_PHI, CR_F_OUTCOME, CR_F_STEPS, CR_F_ERR, CR_F_STD,
+       CR_F_N };
+
+static const struct {
+    const char *name, *unit, *comment;
+} cr_fits_ext[CR_F_N] = {
+    {"REDSHIFT", "", "frequency ratio nu_obs/nu_em; NaN: no source"},
+    {"HIT_R", "M", "BL radius of the disc/sphere hit; NaN: none"},
+    {"HIT_PHI", "rad", "BL azimuth of the hit in [0, 2 pi); NaN: none"},
+    {"OUTCOME", "", "what the ray reached: codes in OUTCOME0..6"},
+    {"STEPS", "", "integrator steps of the pixel"},
+    {"NULLERR", "", "mean of the ray's error monitor"},
+    {"NULLSTD", "", "standard deviation of the error monitor"},
+};
+
+/* Value of quantity q at pixel p, as the CSV defines it, NaN where the CSV
+ * writes -1 for "undefined". */
+static double cr_fits_value(int q, const cr_pixel *p)
+{
+    int hit = p->outcome == CR_OUT_DISC || p->outcome == CR_OUT_SPHERE;
+    int source = !(p->outcome == CR_OUT_NONE || p->outcome == CR_OUT_ERROR ||
+                   p->outcome == CR_OUT_LIMIT);
+    switch (q) {
+    case CR_F_REDSHIFT: return source ? p->redshift : NAN;
+    case CR_F_HIT_R: return hit ? p->hit_r : NAN;
+    case CR_F_HIT_PHI: return hit ? p->hit_phi : NAN;
+    case CR_F_ERR: return p->err_mean;
+    default: return p->err_std;
+    }
+}
+
+/* The frame's keywords on the current (primary) HDU. */
+static void cr_fits_keys(fitsfile *ff, int k, int n, const cr_scene *s, const cr_trace_settings *ts,
+                         const cr_frame *f, int *st)
+{
+    const double deg = 180.0 / CR_PI;
+    double m = cr_anim_at(s->m, k, n), v;
+    char word[32];
+    int o;
+    fits_write_key_str(ff, "CREATOR", "curray " CURRAY_VERSION, "relativistic raytracer", st);
+    fits_write_key_lng(ff, "FRAME", k, "frame number, from 0", st);
+    fits_write_key_lng(ff, "NFRAMES", n, "frames in the run", st);
+    fits_write_key_str(ff, "METRIC", "Kerr-Newman", "Boyer-Lindquist coordinates", st);
+    fits_write_key_str(ff, "UNITS", "G = c = 1", "lengths in units of M (BH_MASS)", st);
+    fits_write_key_str(ff, "SIGNATUR", "-+++", "metric signature", st);
+    fits_write_key_dbl(ff, "BH_MASS", m, 15, "M in the scene file's length unit", st);
+    fits_write_key_dbl(ff, "BH_SPIN", f->metric.a, 15, "a / M", st);
+    fits_write_key_dbl(ff, "BH_CHRG", f->metric.q, 15, "Q / M", st);
+    if (f->obs_at_inf) {
+        fits_write_key_log(ff, "OBS_INF", 1, "observer at infinity (image plane)", st);
+        fits_write_key_dbl(ff, "HEXTENT", f->observer.hextent, 15, "[M] image plane width", st);
+        fits_write_key_dbl(ff, "VEXTENT", f->observer.vextent, 15, "[M] image plane height", st);
+    } else {
+        fits_write_key_log(ff, "OBS_INF", 0, "observer at finite r", st);
+        fits_write_key_dbl(ff, "OBS_R", f->observer.r, 15, "[M] observer BL radius", st);
+        fits_write_key_dbl(ff, "HFOV", f->observer.hfov * deg, 15, "[deg] horizontal fov", st);
+        fits_write_key_dbl(ff, "VFOV", f->observer.vfov * deg, 15, "[deg] vertical fov", st);
+    }
+    fits_write_key_dbl(ff, "OBS_TH", f->observer.theta * deg, 15, "[deg] observer BL theta", st);
+    fits_write_key_dbl(ff, "OBS_PH", f->observer.phi * deg, 15, "[deg] observer BL phi", st);
+    fits_write_key_dbl(ff, "OBS_ROLL", f->observer.roll * deg, 15, "[deg] camera roll", st);
+    fits_write_key_dbl(ff, "OBS_PTCH", f->observer.pitch * deg, 15, "[deg] camera pitch", st);
+    fits_write_key_dbl(ff, "OBS_YAW", f->observer.yaw * deg, 15, "[deg] camera yaw", st);
+    fits_write_key_str(ff, "INTEGRAT", cr_integrator_name(ts->integrator), "geodesic integrator",
+                       st);
+    v = ts->tolerance;
+    fits_write_key_dbl(ff, "TOLERANC", v, 15, "mino error tolerance", st);
+    fits_write_key_lng(ff, "SAMPLES", ts->samples > 1 ? ts->samples : 1,
+                       "sub-pixel rays per side", st);
+    if (s->path)
+        fits_write_key_longstr(ff, "SCENE", s->path, "scene file", st);
+    for (o = 0; o < CR_OUT_COUNT_; o++) {
+        snprintf(word, sizeof word, "OUTCOME%d", o);
+        fits_write_key_str(ff, word, cr_outcome_name(o), "OUTCOME code meaning", st);
+    }
+}
+
+/* One image extension of quantity q (rows flipped: FITS row 1 at the bottom). */
+static void cr_fits_image(fitsfile *ff, int q, const cr_pixel *px, int w, int h, void *row,
+                          int *st)
+{
+    long naxes[2];
+    int y, x;
+    int bitpix = q == CR_F_OUTCOME ? BYTE_IMG : q == CR_F_STEPS ? ULONG_IMG : DOUBLE_IMG;
+    int type = q == CR_F_OUTCOME ? TBYTE : q == CR_F_STEPS ? TUINT : TDOUBLE;
+    naxes[0] = w;
+    naxes[1] = h;
+    fits_create_img(ff, bitpix, 2, naxes, st);
+    fits_write_key_str(ff, "EXTNAME", cr_fits_ext[q].name, cr_fits_ext[q].comment, st);
+    fits_write_key_str(ff, "BUNIT", cr_fits_ext[q].unit, "unit", st);
+    for (y = 0; y < h && *st == 0; y++) {
+        const cr_pixel *p = px + (size_t)(h - 1 - y) * (size_t)w;
+        for (x = 0; x < w; x++) {
+            if (q == CR_F_OUTCOME)
+                ((unsigned char *)row)[x] = p[x].outcome;
+            else if (q == CR_F_STEPS)
+                ((unsigned int *)row)[x] = p[x].steps;
+            else
+                ((double *)row)[x] = cr_fits_value(q, &p[x]);
+        }
+        fits_write_img(ff, type, (LONGLONG)y * w + 1, w, row, st);
+    }
+}
+
+int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_trace_settings *ts,
+                   const cr_pixel *px, int w, int h, cr_err *err)
+{
+    char path[4096], name[64], msg[FLEN_ERRMSG];
+    cr_frame f;
+    cr_sphere *spheres = malloc(sizeof *spheres * (size_t)(s->n_spheres + 1));
+    void *row = malloc(sizeof(double) * (size_t)w);
+    void *mem = NULL;
+    size_t memsize = 0;
+    fitsfile *ff = NULL;
+    int st = 0, q, rc = -1;
+    LONGLONG head0, data0, data1;
+    cr_atomic a;
+
+    snprintf(name, sizeof name, "f_%d.fits", k);
+    if (cr_path_join(path, sizeof path, dir, name) != 0) {
+        cr_err_set(err, "output folder name too long: '%s'", dir);
+        goto done;
+    }
+    if (!spheres || !row) {
+        cr_err_set(err, "writing %s: out of memory", path);
+        goto done;
+    }
+    /* the frame's own values (units of M) for the keywords */
+    if (cr_scene_frame(s, k, n, w, h, ts, &f, spheres, err))
+        goto done;
+    fits_create_memfile(&ff, &mem, &memsize, 2880 * 64, realloc, &st);
+    fits_create_img(ff, BYTE_IMG, 0, NULL, &st);
+    cr_fits_keys(ff, k, n, s, ts, &f, &st);
+    for (q = 0; q < CR_F_N; q++)
+        cr_fits_image(ff, q, px, w, h, row, &st);
+    fits_get_hduaddrll(ff, &head0, &data0, &data1, &st);
+    fits_close_file(ff, &st);
+    if (st) {
+        fits_get_errstatus(st, msg);
+        cr_err_set(err, "writing %s: cfitsio: %s", path, msg);
+        goto done;
+    }
+    /* the file ends with the last HDU's data, padded to 2880-byte blocks */
+    data1 = (data1 + 2879) / 2880 * 2880;
+    if ((size_t)data1 > memsize) {
+        cr_err_set(err, "writing %s: cfitsio produced %lld of %lld bytes", path,
+                   (long long)memsize, (long long)data1);
+        goto done;
+    }
+    if (cr_atomic_open(&a, path, err))
+        goto done;
+    fwrite(mem, 1, (size_t)data1, a.fp);
+    rc = cr_atomic_commit(&a, err);
+done:
+    free(mem);
+    free(row);
+    free(spheres);
+    return rc;
+}
+
+#endif

@@ -1,0 +1,43 @@
+/* curray io: f_<k>.fits, one FITS file per frame (-t f), written with
+ * cfitsio into memory and then atomically like every output (atomic.h).
+ *
+ * Layout: an empty primary HDU carrying the frame's keywords (metric,
+ * observer, field of view, integrator, units), then one image extension per
+ * quantity, each width x height, EXTNAME and BUNIT set:
+ *   REDSHIFT  float64  nu_obs / nu_em (the CSV's redshift; NaN where the CSV
+ *                      has -1: no source reached)
+ *   HIT_R     float64  BL radius of the disc or sphere hit, units of M (NaN
+ *                      for other outcomes)
+ *   HIT_PHI   float64  BL azimuth of the hit, rad in [0, 2 pi) (NaN likewise)
+ *   OUTCOME   uint8    the outcome code; keywords OUTCOME0..6 name the codes
+ *   STEPS     uint32   integrator steps of the pixel (BZERO 2147483648)
+ *   NULLERR   float64  mean error monitor along the ray (CSV err_mean)
+ *   NULLSTD   float64  its standard deviation (CSV err_std)
+ * FITS rows count from the bottom of the image (the FITS convention, so
+ * viewers show it upright): FITS row 1 is the PNG's last row; with astropy
+ * data[::-1] is the image in the CSV's row order.
+ *
+ * cfitsio is optional at build time (CMake finds it or not); without it
+ * cr_fits_available() is 0 and cr_output_fits fails with a message saying so. */
+#ifndef CR_IO_FITS_H
+#define CR_IO_FITS_H
+
+#include "../core/defs.h"
+#include "error.h"
+#include "scene.h"
+
+/* 1 when this build writes FITS (linked with cfitsio). */
+int cr_fits_available(void);
+
+/* The message -t f gets from a build without cfitsio. */
+#define CR_FITS_MISSING                                                                         \
+    "-t f: this curray was built without cfitsio, so it cannot write FITS; install it "         \
+    "(Debian: libcfitsio-dev, tools/install-deps.sh) and build again"
+
+/* Write dir/f_<k>.fits for frame k of n of scene s traced with settings ts
+ * into px (w x h, row 0 at the top). Returns 0, or -1 with err set (nothing
+ * is left behind). */
+int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_trace_settings *ts,
+                   const cr_pixel *px, int w, int h, cr_err *err);
+
+#endif
