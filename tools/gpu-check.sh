@@ -40,10 +40,10 @@ set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bdir=$root/build-gpu-check
 
-build_variant() { # NAME MAXRREG TARGETS...
-    local name=$1 rreg=$2
-    shift 2
-    cmake -S "$bdir/src" -B "$bdir/$name" -DCMAKE_BUILD_TYPE=Release -DCURRAY_STATIC=ON \
+build_variant() { # NAME MAXRREG SOURCE TARGETS...
+    local name=$1 rreg=$2 src=$3
+    shift 3
+    cmake -S "$src" -B "$bdir/$name" -DCMAKE_BUILD_TYPE=Release -DCURRAY_STATIC=ON \
         -DCURRAY_CUDA_ARCHS=90 -DCURRAY_CUDA_MAXRREG="$rreg" -DCURRAY_CUDA_PTXAS_VERBOSE=ON \
         -DCURRAY_TESTS=ON >"$bdir/$name.cmake.log" 2>&1 || {
         cat "$bdir/$name.cmake.log"
@@ -73,9 +73,17 @@ cmd_build() {
     git -C "$root" archive HEAD | tar -x -C "$bdir/src" || exit 1
     echo "gpu-check: building commit $(git -C "$root" rev-parse --short HEAD)"
     git -C "$root" rev-parse --short HEAD >"$bdir/src/COMMIT"
-    build_variant default "" curray test_backends || exit 1
-    build_variant r128 128 curray || exit 1
-    build_variant r64 64 curray || exit 1
+    build_variant default "" "$bdir/src" curray test_backends || exit 1
+    build_variant r128 128 "$bdir/src" curray || exit 1
+    build_variant r64 64 "$bdir/src" curray || exit 1
+    # GPU_CHECK_BASE=REV: also the curray of an earlier commit, benchmarked
+    # side by side with this one (a before/after of a change)
+    if [ -n "${GPU_CHECK_BASE:-}" ]; then
+        mkdir -p "$bdir/src-base"
+        git -C "$root" archive "$GPU_CHECK_BASE" | tar -x -C "$bdir/src-base" || exit 1
+        git -C "$root" rev-parse --short "$GPU_CHECK_BASE" >"$bdir/src-base/COMMIT"
+        build_variant base "" "$bdir/src-base" curray || exit 1
+    fi
     # test_backends links libcmocka.so.0 dynamically (Debian ships no .a)
     cp -L "$(ldconfig -p | awk '/libcmocka\.so\.0 / {print $NF; exit}')" "$bdir/lib/" || exit 1
     du -sh "$bdir"
@@ -181,7 +189,7 @@ cmd_run() {
     } >"$work/summary.txt"
 
     local v
-    for v in default r128 r64; do
+    for v in default base r128 r64; do
         [ -x "$bdir/$v/curray" ] || continue
         echo "--- $v" >>"$work/info.log"
         timeout 60 "$bdir/$v/curray" -i >>"$work/info.log" 2>&1
@@ -202,7 +210,7 @@ cmd_run() {
             --sizes 1024 --runs 3 --config "$work/tol$tol.yml"
     done
     stage bench-default 120 bench_run default all --sizes "${GPU_CHECK_SIZES:-1024 2048}" --runs 3
-    for v in r128 r64; do
+    for v in base r128 r64; do
         [ -x "$bdir/$v/curray" ] && stage "bench-$v" 60 bench_run "$v" "$v" --sizes 1024 --runs 3
     done
     stage cli-overlap 60 cli_overlap

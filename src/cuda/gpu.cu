@@ -72,7 +72,9 @@ static int cr_gpu_try_(cudaError_t e, cr_err *err, const char *file, int line, c
 /* One thread per pixel; rows [row0, row_end) of the frame f, passed by value
  * (a __grid_constant__ argument lives in the constant bank and its address
  * can be taken without a copy to local memory; needs compute capability
- * 7.0). Blocks that start after *abort became non-zero return at once.
+ * 7.0). Blocks that start after *abort became non-zero return at once. The
+ * flag lives in mapped pinned host memory, so each read crosses the bus: one
+ * thread per block reads it, not every thread.
  * CR_GPU_MAX_THREADS / CR_GPU_MIN_BLOCKS (CMake's CURRAY_CUDA_LAUNCH_BOUNDS)
  * give the kernel __launch_bounds__. */
 #if defined(CR_GPU_MAX_THREADS) && defined(CR_GPU_MIN_BLOCKS)
@@ -86,9 +88,13 @@ __global__ void CR_GPU_LAUNCH_BOUNDS cr_gpu_trace_kernel(const __grid_constant__
                                                          cr_pixel *__restrict__ out, int row0,
                                                          int row_end, const volatile int *abort)
 {
+    __shared__ int stop;
     int i = (int)(blockIdx.x * blockDim.x + threadIdx.x);
     int j = row0 + (int)(blockIdx.y * blockDim.y + threadIdx.y);
-    if (*abort)
+    if (threadIdx.x == 0 && threadIdx.y == 0)
+        stop = *abort;
+    __syncthreads();
+    if (stop)
         return;
     if (i < f.width && j < row_end)
         out[(size_t)j * f.width + i] = cr_trace_pixel(&f, i, j);
