@@ -59,6 +59,8 @@ static void assert_defaults(const cr_sysconfig *c)
     assert_int_equal(c->quiet, 0);
     assert_int_equal(c->keep_log, 0);
     assert_int_equal(c->auto_accept, 0);
+    assert_int_equal(c->video_fps, 30);
+    assert_int_equal(c->video_keep_frames, 1);
 }
 
 static void test_defaults(void **state)
@@ -129,7 +131,8 @@ static void test_every_key(void **state)
             "  verbose: True\n"
             "  quiet: NO\n"
             "  keep_log: On\n"
-            "auto_accept: YES\n",
+            "auto_accept: YES\n"
+            "video: {fps: 24, keep_frames: false}\n",
             &c);
     for (i = 0; i < CR_MAX_GPUS; i++)
         assert_int_equal(c.gpu_enabled[i], i == 1 || i == 3 || i == 63);
@@ -144,6 +147,8 @@ static void test_every_key(void **state)
     assert_int_equal(c.quiet, 0);
     assert_int_equal(c.keep_log, 1);
     assert_int_equal(c.auto_accept, 1);
+    assert_int_equal(c.video_fps, 24);
+    assert_int_equal(c.video_keep_frames, 0);
 }
 
 static void test_gpus_rule(void **state)
@@ -312,7 +317,14 @@ static void test_errors(void **state)
         {"auto_accept: true\nauto_accept: false\n", "config.yml:2:1: auto_accept: ",
          "duplicate key 'auto_accept' (first given at line 1, column 1)"},
         {"raytrace:\n  max_steps: 5\n", "config.yml:1:1: unknown key 'raytrace' at the top level",
-         "(expected one of: gpus, cpu, raytracer, log, auto_accept)"},
+         "(expected one of: gpus, cpu, raytracer, log, auto_accept, video)"},
+        {"video:\n  fps: 0\n", "config.yml:2:8: video.fps: ",
+         "expected a whole number of frames per second from 1 to 1000, got \"0\""},
+        {"video:\n  fps: 29.97\n", "config.yml:2:8: video.fps: ", "got \"29.97\""},
+        {"video:\n  keep_frames: maybe\n", "config.yml:2:16: video.keep_frames: ",
+         "expected true or false"},
+        {"video:\n  speed: 2\n", "config.yml:2:3: unknown key 'speed' in video",
+         "(expected one of: fps, keep_frames)"},
         {"gpus:\n  64:\n    enabled: true\n", "config.yml:2:3: gpus: ",
          "expected a GPU number from 0 to 63, got \"64\""},
         {"gpus:\n  first:\n    enabled: true\n", "config.yml:2:3: gpus: ",

@@ -4,7 +4,10 @@
 # (.ci/run adds clang, libclang-rt-<N>-dev and valgrind for its sanitizer,
 # fuzzing and valgrind checks.)
 set -euo pipefail
-pkgs=(cmake make gcc pkg-config libyaml-dev libpng-dev zlib1g-dev libcmocka-dev "$@")
+# FFmpeg's libraries are optional for the build (-t v videos) but installed
+# here so that CI builds and tests the video output.
+pkgs=(cmake make gcc pkg-config libyaml-dev libpng-dev zlib1g-dev libcmocka-dev
+      libavcodec-dev libavformat-dev libswscale-dev libavutil-dev "$@")
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -33,6 +33,7 @@
 #include "../io/raypath.h"
 #include "../io/scene.h"
 #include "../io/sysconfig.h"
+#include "../io/video.h"
 #include "cli.h"
 #include "crash.h"
 #include "interrupt.h"
@@ -77,6 +78,7 @@ typedef struct cr_run {
     char *stale;      /* stale frame files in the output folder, or NULL */
     cr_resume resume; /* --resume: the frames kept from the earlier run */
     int n_kept;       /* how many */
+    char frame_types[16]; /* the per-frame files written: -t, plus c for v */
     cr_info infotxt; /* info.txt: begun before the first frame, ended after the last */
     cr_trace_settings ts;
     char backend_name[64];
@@ -97,9 +99,12 @@ typedef struct cr_run {
     double t_start;
 } cr_run;
 
+/* Does the run write output type t? A video (v) is made from the colour
+ * frames, so v implies c. */
 static int cr_has_type(const cr_run *run, char t)
 {
-    return strchr(run->cli.output_type, t) != NULL;
+    return strchr(run->cli.output_type, t) != NULL ||
+           (t == 'c' && strchr(run->cli.output_type, 'v') != NULL);
 }
 
 /* Progress of the whole run: frames finished plus the finished parts of the
@@ -737,6 +742,37 @@ static int cr_render_frames(cr_run *run, cr_err *err)
     return 0;
 }
 
+/* After every frame is finished: c.mp4 from the colour frames and, when
+ * redshift frames were asked for too, r.mp4 from them (video.h); then, with
+ * video.keep_frames false, the PNG frames they were made from are removed. */
+static int cr_make_videos(cr_run *run, cr_err *err)
+{
+    const char *prefix[2] = {"c", "r"};
+    int i, k, padded, n = (int)run->cli.frames;
+    char name[64], path[4096];
+    double t0;
+    for (i = 0; i < 2; i++) {
+        if (i == 1 && !cr_has_type(run, 'r'))
+            break;
+        snprintf(name, sizeof name, "%s.mp4", prefix[i]);
+        t0 = cr_now();
+        if (cr_video_from_pngs(run->cli.output_dir, prefix[i], n, run->cfg.video_fps, name,
+                               &padded, err))
+            return -1;
+        cr_log_info(&run->log, "video %s: %d frame%s at %d fps, H.264 in %.2f s%s", name, n,
+                    n > 1 ? "s" : "", run->cfg.video_fps, cr_now() - t0,
+                    padded ? " (the odd frame size is padded to even by repeating the last "
+                             "row or column)"
+                           : "");
+        for (k = 0; !run->cfg.video_keep_frames && k < n; k++) {
+            snprintf(name, sizeof name, "%s_%d.png", prefix[i], k);
+            if (cr_path_join(path, sizeof path, run->cli.output_dir, name) == 0)
+                unlink(path);
+        }
+    }
+    return 0;
+}
+
 /* The last line of the run, and its exit status. */
 static int cr_report(cr_run *run)
 {
@@ -763,7 +799,7 @@ static int cr_frame_files_present(const cr_run *run, int k)
 {
     char name[64];
     const char *t;
-    for (t = run->cli.output_type; *t; t++)
+    for (t = run->frame_types; *t; t++)
         if (cr_frame_file_name(*t, k, name, sizeof name) == 0 &&
             !cr_file_exists(run->cli.output_dir, name))
             return 0;
@@ -778,12 +814,20 @@ static int cr_frame_files_present(const cr_run *run, int k)
 static int cr_check_folder(cr_run *run, cr_err *err)
 {
     const char *dir = run->cli.output_dir;
+    char video[64] = "";
     int n, k;
+    snprintf(run->frame_types, sizeof run->frame_types, "%s%s", run->cli.output_type,
+             cr_has_type(run, 'v') && !strchr(run->cli.output_type, 'c') ? "c" : "");
+    if (cr_has_type(run, 'v')) {
+        if (!cr_video_available())
+            return cr_err_set(err, "-t v: %s", CR_VIDEO_UNAVAILABLE);
+        snprintf(video, sizeof video, "video fps %d", run->cfg.video_fps);
+    }
     if (cr_run_hash(&run->scene, &run->cfg, run->cli.width, run->cli.height, run->cli.frames,
-                    run->cli.output_type, run->use_cuda, "", run->hash, err))
+                    run->cli.output_type, run->use_cuda, video, run->hash, err))
         return -1;
     run->info.hash = run->hash;
-    n = cr_stale_scan(dir, (int)run->cli.frames, run->cli.output_type, &run->stale);
+    n = cr_stale_scan(dir, (int)run->cli.frames, run->frame_types, &run->stale);
     if (n < 0)
         return cr_err_set(err, "out of memory scanning %s", dir);
     if (n > 0) {
@@ -937,6 +981,10 @@ int main(int argc, char **argv)
             rc = CR_EXIT_ERROR;
         } else {
             rc = cr_report(&run);
+            if (rc == CR_EXIT_OK && cr_has_type(&run, 'v') && cr_make_videos(&run, &err)) {
+                cr_log_error(&run.log, "curray: %s", err.msg);
+                rc = CR_EXIT_ERROR;
+            }
         }
     }
     if (cr_info_end(&run.infotxt, &err) && run.log_open) { /* fsync: the records are on disk */

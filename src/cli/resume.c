@@ -18,7 +18,7 @@
 static const struct {
     char type;
     const char *ext;
-} cr_frame_types[] = {{'c', "png"}, {'r', "png"}, {'d', "csv"}, {'b', "png"}};
+} cr_frame_types[] = {{'c', "png"}, {'r', "png"}, {'d', "csv"}, {'b', "png"}, {'f', "fits"}};
 
 #define CR_N_FRAME_TYPES (sizeof cr_frame_types / sizeof cr_frame_types[0])
 

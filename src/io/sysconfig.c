@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "../core/trace.h"
+#include "video.h"
 #include "yamlutil.h"
 
 /* Largest configuration file read (bytes). */
@@ -70,6 +71,8 @@ void cr_sysconfig_defaults(cr_sysconfig *c)
     c->max_steps = CR_DEFAULT_MAX_STEPS;
     c->max_turns = CR_DEFAULT_MAX_TURNS;
     c->samples = 1;
+    c->video_fps = CR_VIDEO_DEFAULT_FPS;
+    c->video_keep_frames = 1;
 }
 
 /* A finite number > 0. */
@@ -207,6 +210,25 @@ static int parse_raytracer(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c
     return 0;
 }
 
+static int parse_video(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_err *err)
+{
+    enum { FPS, KEEP, N };
+    cr_yaml_field f[N] = {OPT("fps"), OPT("keep_frames")};
+    char what[64];
+    long fps;
+    if (cr_yaml_fields(y, sec->value, "video", sec->key_node, f, N, err) ||
+        get_flag(y, &f[KEEP], "video", &c->video_keep_frames, err))
+        return -1;
+    snprintf(what, sizeof what, "a whole number of frames per second from 1 to %d",
+             CR_VIDEO_MAX_FPS);
+    if (f[FPS].value) {
+        if (cr_yaml_int(y, f[FPS].value, "video.fps", 1, CR_VIDEO_MAX_FPS, what, &fps, err))
+            return -1;
+        c->video_fps = (int)fps;
+    }
+    return 0;
+}
+
 static int parse_log(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_err *err)
 {
     enum { VERBOSE, QUIET, KEEP, N };
@@ -222,9 +244,9 @@ static int parse_log(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_e
 int cr_sysconfig_load_string(const char *text, size_t len, const char *name, cr_sysconfig *c,
                              cr_err *err)
 {
-    enum { GPUS, CPU, RAYTRACER, LOG, AUTO, N };
-    cr_yaml_field f[N] = {OPT("gpus"), OPT("cpu"), OPT("raytracer"), OPT("log"),
-                          OPT("auto_accept")};
+    enum { GPUS, CPU, RAYTRACER, LOG, AUTO, VIDEO, N };
+    cr_yaml_field f[N] = {OPT("gpus"), OPT("cpu"),         OPT("raytracer"),
+                          OPT("log"),  OPT("auto_accept"), OPT("video")};
     cr_sysconfig tmp;
     cr_yaml y;
     yaml_node_t *root;
@@ -239,7 +261,7 @@ int cr_sysconfig_load_string(const char *text, size_t len, const char *name, cr_
             cr_yaml_describe(root, got, sizeof got);
             cr_yaml_fail(&y, root, NULL, err,
                          "a configuration must be a mapping of keys (gpus, cpu, raytracer, "
-                         "log, auto_accept), got %s",
+                         "log, auto_accept, video), got %s",
                          got);
             goto fail;
         }
@@ -250,6 +272,7 @@ int cr_sysconfig_load_string(const char *text, size_t len, const char *name, cr_
         if ((f[CPU].value && parse_cpu(&y, &f[CPU], &tmp, err)) ||
             (f[RAYTRACER].value && parse_raytracer(&y, &f[RAYTRACER], &tmp, err)) ||
             (f[LOG].value && parse_log(&y, &f[LOG], &tmp, err)) ||
+            (f[VIDEO].value && parse_video(&y, &f[VIDEO], &tmp, err)) ||
             get_flag(&y, &f[AUTO], NULL, &tmp.auto_accept, err))
             goto fail;
     }

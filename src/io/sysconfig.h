@@ -4,7 +4,7 @@
  * overrides the file (-v -q -a). Keys: gpus.<n>.enabled, cpu.threads,
  * raytracer.integrator, raytracer.tolerance, raytracer.horizon_epsilon,
  * raytracer.step_multiplier, raytracer.max_steps, raytracer.max_turns,
- * raytracer.samples,
+ * raytracer.samples, video.fps, video.keep_frames,
  * log.verbose, log.quiet, log.keep_log, auto_accept.
  */
 #ifndef CR_IO_SYSCONFIG_H
@@ -32,6 +32,10 @@ typedef struct cr_sysconfig {
     int samples;            /* 1..CR_MAX_SAMPLES (trace.h), default 1:
                                samples x samples rays per pixel */
     int verbose, quiet, keep_log, auto_accept;
+    int video_fps;          /* video.fps: frames per second of -t v videos,
+                               1..CR_VIDEO_MAX_FPS (video.h), default 30 */
+    int video_keep_frames;  /* video.keep_frames: keep the PNG frames a video
+                               was made from (default true) */
 } cr_sysconfig;
 
 /* The configuration name of an integrator ("mino", "rk4"), the same word

@@ -1,0 +1,38 @@
+/* curray io: a video of a run's frames (output type v, issue 14).
+ *
+ * An MP4 file (H.264, yuv420p, the constant frame rate fps) is made from the
+ * PNG frames dir/<prefix>_0.png ... dir/<prefix>_<n-1>.png after they are
+ * all written, with FFmpeg's libraries (libavformat, libavcodec, libswscale;
+ * no external program). H.264 in yuv420p needs an even width and height: an
+ * odd side is padded by one row or column that repeats the last one, so the
+ * video is the frame plus at most one pixel. The file is written atomically
+ * (atomic.h): a temporary name, renamed when complete.
+ *
+ * Builds without FFmpeg's development files (CURRAY_HAVE_FFMPEG undefined)
+ * get a version whose cr_video_available() is 0 and whose
+ * cr_video_from_pngs() fails with CR_VIDEO_UNAVAILABLE. */
+#ifndef CR_IO_VIDEO_H
+#define CR_IO_VIDEO_H
+
+#include "error.h"
+
+#define CR_VIDEO_UNAVAILABLE                                                                   \
+    "this curray was built without FFmpeg's libraries, so it cannot write videos (-t v); "     \
+    "install them (Debian: apt-get install libavcodec-dev libavformat-dev libswscale-dev "     \
+    "libavutil-dev, or tools/install-deps.sh) and build again"
+
+/* Default and limits of video.fps (frames per second). */
+#define CR_VIDEO_DEFAULT_FPS 30
+#define CR_VIDEO_MAX_FPS 1000
+
+/* 1 when this build writes videos. */
+int cr_video_available(void);
+
+/* Write dir/name from the n frames dir/<prefix>_<k>.png at fps frames per
+ * second (1..CR_VIDEO_MAX_FPS). *padded (may be NULL) is set to 1 when the
+ * frame size was odd and padded to even. Every frame must have the size of
+ * frame 0. Returns 0, or -1 with err set and no file (nor temporary) left. */
+int cr_video_from_pngs(const char *dir, const char *prefix, int n, int fps, const char *name,
+                       int *padded, cr_err *err);
+
+#endif

@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# Videos, -t v (issue 14).
+#
+#   bash tests/cli/test_video.sh path/to/curray path/to/video_probe|none [repository root]
+#
+# With FFmpeg (a video_probe binary): a 3-frame run of odd size 81x61 at
+# video.fps 24 gives c.mp4 and r.mp4 that libavformat reads back as H.264
+# yuv420p, 3 frames, 82x62 (padded to even), 24/1 fps, whose first frame
+# matches c_0.png / r_0.png with a luma PSNR >= 35 dB (RGB >= 20 dB: yuv420p
+# halves the chroma resolution, which alone costs 28 dB RGB at the saturated
+# chessboard edges of this size even when coded losslessly; README "Videos");
+# the PNG frames stay, and
+# video.keep_frames: false removes them. Without FFmpeg ("none"): -t v is
+# refused with the message that says how to get it. About 5 s.
+set -u
+
+CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+PROBE=$2
+[ "$PROBE" = none ] || PROBE=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
+ROOT=$(cd "${3:-$(dirname "$0")/../..}" && pwd)
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/curray-test-video.XXXXXX")
+trap 'rm -rf "$WORK"' EXIT
+cd "$WORK" || exit 2
+
+passed=0 failed=0
+OUT="" RC=0
+ok() { echo "ok   $1"; passed=$((passed + 1)); }
+bad() { echo "FAIL $1: $2"; [ -n "$OUT" ] && echo "$OUT" | sed 's/^/       | /'; failed=$((failed + 1)); }
+run() { OUT=$(timeout 120 "$CURRAY" "$@" </dev/null 2>&1); RC=$?; }
+has() { case "$OUT" in *"$1"*) return 0 ;; *) return 1 ;; esac; }
+
+cp "$ROOT/scenes/listing-7.1.6-sphere-orbit.yml" scene.yml 2>/dev/null || cp "$ROOT/scenes/demo.yml" scene.yml
+
+if [ "$PROBE" = none ]; then
+    run -s scene.yml -o v -x 16 -y 12 -t icv -a
+    if [ $RC = 1 ] && has "this curray was built without FFmpeg's libraries" &&
+       has "apt-get install libavcodec-dev libavformat-dev libswscale-dev libavutil-dev" &&
+       [ ! -e v ]; then
+        ok "-t v without FFmpeg is refused, saying how to get it"
+    else
+        bad "-t v without FFmpeg" "rc $RC"
+    fi
+    echo "$passed passed, $failed failed"
+    [ $failed = 0 ]
+    exit
+fi
+
+# probe FILE PNG FIELD: one field of video_probe's line
+probe() { "$PROBE" "$1" "$2" | awk -v k="$3" '{ for (i = 1; i < NF; i++) if ($i == k) print $(i + 1) }'; }
+
+printf 'video:\n  fps: 24\n' >v24.yml
+run -s scene.yml -o v -x 81 -y 61 -f 3 -t icrv -c v24.yml -a
+if [ $RC = 0 ] && [ -f v/c.mp4 ] && [ -f v/r.mp4 ] && [ -f v/c_2.png ] && [ -f v/r_0.png ] &&
+   has "video c.mp4: 3 frames at 24 fps" && has "padded to even"; then
+    ok "-t icrv writes c.mp4 and r.mp4, keeps the PNG frames, says it padded"
+else
+    bad "-t icrv" "rc $RC"
+fi
+for t in c r; do
+    line=$("$PROBE" "v/$t.mp4" "v/${t}_0.png" 2>&1)
+    psnr=$(probe "v/$t.mp4" "v/${t}_0.png" psnr_y)
+    prgb=$(probe "v/$t.mp4" "v/${t}_0.png" psnr_rgb)
+    if [ "$(probe "v/$t.mp4" "v/${t}_0.png" codec)" = h264 ] &&
+       [ "$(probe "v/$t.mp4" "v/${t}_0.png" pix_fmt)" = yuv420p ] &&
+       [ "$(probe "v/$t.mp4" "v/${t}_0.png" frames)" = 3 ] &&
+       [ "$(probe "v/$t.mp4" "v/${t}_0.png" size)" = 82x62 ] &&
+       [ "$(probe "v/$t.mp4" "v/${t}_0.png" fps)" = 24/1 ] &&
+       awk -v p="$psnr" -v q="$prgb" 'BEGIN { exit !(p >= 35 && q >= 20) }'; then
+        ok "$t.mp4: h264 yuv420p, 3 frames, 82x62, 24 fps, first frame PSNR $psnr dB (luma) >= 35, $prgb dB (RGB) >= 20"
+    else
+        OUT=$line
+        bad "$t.mp4 read back" "expected h264 yuv420p, 3 frames, 82x62, 24/1, PSNR >= 35 (luma), >= 20 (RGB)"
+    fi
+done
+# the measure can fail: the colour video against the redshift frame
+wrong=$(probe v/c.mp4 v/r_0.png psnr_y)
+if awk -v p="$wrong" 'BEGIN { exit !(p < 20) }'; then
+    ok "c.mp4 against r_0.png: PSNR $wrong dB (luma), far below 35"
+else
+    bad "PSNR of a wrong frame" "$wrong dB"
+fi
+if ! ls -a v | grep -q '\.tmp\.'; then
+    ok "no temporary file left"
+else
+    bad "temporaries" "$(ls -a v)"
+fi
+
+# the default frame rate, an even size (no padding), and keep_frames: false
+printf 'video:\n  keep_frames: false\n' >nokeep.yml
+run -s scene.yml -o k -x 64 -y 48 -f 2 -t iv -c nokeep.yml -a
+if [ $RC = 0 ] && [ -f k/c.mp4 ] && [ ! -e k/c_0.png ] && [ ! -e k/c_1.png ] && [ ! -e k/r.mp4 ] &&
+   ! has "padded" && [ -f k/info.txt ]; then
+    ok "-t iv with video.keep_frames: false keeps only the video"
+else
+    bad "keep_frames: false" "rc $RC; $(ls k)"
+fi
+run -s scene.yml -o d -x 64 -y 48 -f 2 -t cv -a
+if [ $RC = 0 ] && [ "$("$PROBE" d/c.mp4 d/c_0.png | awk '{ print $6, $8, $10 }')" = "2 64x48 30/1" ]; then
+    ok "default 30 fps, an even size is not padded"
+else
+    OUT=$("$PROBE" d/c.mp4 d/c_0.png 2>&1)
+    bad "default fps" "rc $RC"
+fi
+
+echo "$passed passed, $failed failed"
+[ $failed = 0 ]
