@@ -20,7 +20,11 @@
  * Kerr and Kerr-Newman at any inclination, observer at r_o = 1e6 and at
  * infinity: the whole shadow edge lies within 0.5 px (of a 512 px, 16 M
  * image) of Bardeen's curve of the spherical photon orbits (see "The
- * Bardeen curve" below). */
+ * Bardeen curve" below).
+ *
+ * A ZAMO at r_o = 8 M (observer.motion: zamo, issue 13): the same critical
+ * photons projected onto its screen (Grenzebach, Perlick & Lammerzahl 2014)
+ * match the traced edge within 0.5 px (test_shadow_zamo_finite). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -202,9 +206,11 @@ static void test_shadow_reissner_nordstrom(void **state)
 #define BP_EXTENT 16.0
 #define BP_N_DIR 48
 #define BP_RO_FAR 1e6
+#define BP_RO_ZAMO 8.0
 
 typedef struct bardeen {
     double m, a, q, th_o;
+    double ro;          /* 0: the image plane at infinity; > 0: the ZAMO at r_o */
     double r1, r2;      /* the orbit radii at the curve's ends (beta = 0) */
     double ac;          /* centre alpha */
     double ang1, ang2;  /* polar angle about the centre at r1, r2 (0 or pi) */
@@ -219,8 +225,24 @@ static void bardeen_point(const bardeen *b, double r, double *alpha, double *bet
     double lam = (r * r + a * a - A) / a;
     double eta = 16.0 * r * r * delta / (ddelta * ddelta) - (lam - a) * (lam - a);
     double s = sin(b->th_o), c = cos(b->th_o);
+    double theta = eta + a * a * c * c - lam * lam * c * c / (s * s); /* Th(theta_o) */
     *alpha = -lam / s;
-    *beta2 = eta + a * a * c * c - lam * lam * c * c / (s * s);
+    *beta2 = theta;
+    if (b->ro > 0.0) {
+        /* the ZAMO's screen (Grenzebach, Perlick & Lammerzahl 2014): the
+         * outgoing photon p = (-1, sqrt(R)/Delta, +-sqrt(Th), lambda) seen in
+         * the ZAMO frame e_0 = (d_t + omega d_phi)/alpha, e_i = d_i/sqrt(g_ii),
+         * at the screen point (n_ph, -n_th)/(-n_r) of n_i = (p.e_i)/(p.e_0);
+         * times r_o, to share the image-plane units above */
+        double ro = b->ro, so = s * s, sig = ro * ro + a * a * c * c;
+        double del = ro * ro - 2.0 * m * ro + a * a + b->q * b->q;
+        double big = (ro * ro + a * a) * (ro * ro + a * a) - del * a * a * so;
+        double P = ro * ro + a * a - a * lam;
+        double R = P * P - del * (eta + (lam - a) * (lam - a));
+        double k = ro * sqrt(sig / del) * del / sqrt(R); /* r_o sqrt(g_rr) Delta / sqrt(R) */
+        *alpha = -lam * k / sqrt(big * so / sig);
+        *beta2 = theta * k * k / sig;
+    }
 }
 
 static double bardeen_beta2(const bardeen *b, double r)
@@ -252,7 +274,7 @@ static double bardeen_root(const bardeen *b, double lo, double hi)
     return 0.5 * (lo + hi);
 }
 
-static void bardeen_init(bardeen *b, double m, double a, double q, double th_o)
+static void bardeen_init(bardeen *b, double m, double a, double q, double th_o, double ro)
 {
     double rp = m + sqrt(m * m - a * a - q * q), dr = fmin(1e-3 * m, 0.05 * fabs(a));
     double r, al1, al2, tmp;
@@ -261,6 +283,7 @@ static void bardeen_init(bardeen *b, double m, double a, double q, double th_o)
     b->a = a;
     b->q = q;
     b->th_o = th_o;
+    b->ro = ro;
     /* photon orbits lie in (r+, 4M]: find the interval with beta^2 >= 0 (its
      * width shrinks with a, so does the scan's step) */
     for (r = rp + dr; r < 4.0 * m + dr; r += dr) {
@@ -325,20 +348,25 @@ static int bardeen_trace(const cr_frame *f, double alpha, double beta)
  * offset from the curve in pixels; *left_flat reports that the prograde
  * orbits (r1) form the left end of the curve and that the traced shadow's
  * left edge is nearer the hole's direction (alpha = 0) than its right one. */
-static double bardeen_check(double a, double q, double th_deg, int at_inf, int *left_flat)
+/* where: 0 a static observer at BP_RO_FAR, 1 the observer at infinity, 2 a
+ * ZAMO at BP_RO_ZAMO (the curve projected onto its screen). */
+static double bardeen_check(double a, double q, double th_deg, int where, int *left_flat)
 {
     const double px = BP_EXTENT / BP_PX;
     cr_frame f;
     bardeen b;
     double worst = 0.0, sum = 0.0, r_left = 0.0, r_right = 0.0;
     int k;
-    bardeen_init(&b, 1.0, a, q, th_deg * CR_PI / 180.0);
-    cr_test_empty_frame(&f, 1.0, a, q, at_inf ? INFINITY : BP_RO_FAR, b.th_o);
+    const double ro = where == 1 ? INFINITY : where == 2 ? BP_RO_ZAMO : BP_RO_FAR;
+    bardeen_init(&b, 1.0, a, q, th_deg * CR_PI / 180.0, where == 2 ? ro : 0.0);
+    cr_test_empty_frame(&f, 1.0, a, q, ro, b.th_o);
     f.width = f.height = BP_PX;
-    if (at_inf) {
+    if (where == 1) {
         f.observer.hextent = f.observer.vextent = BP_EXTENT;
     } else {
-        f.observer.hfov = f.observer.vfov = 2.0 * atan(0.5 * BP_EXTENT / BP_RO_FAR);
+        f.observer.hfov = f.observer.vfov = 2.0 * atan(0.5 * BP_EXTENT / ro);
+        if (where == 2)
+            f.observer.motion = CR_MOTION_ZAMO;
     }
     cr_frame_prepare(&f);
     for (k = 0; k < BP_N_DIR; k++) {
@@ -373,7 +401,7 @@ static double bardeen_check(double a, double q, double th_deg, int at_inf, int *
     print_message("a=%-5g Q=%-4g theta_o=%2g deg %s: shadow centre alpha %+.4f M, edges at "
                   "alpha %+.4f M and %+.4f M; worst offset %+.2e px, mean |offset| %.2e px (%d "
                   "directions, 1 px = %g M)\n",
-                  a, q, th_deg, at_inf ? "r_o=inf" : "r_o=1e6", b.ac, b.ac - r_left,
+                  a, q, th_deg, where == 1 ? "r_o=inf" : where == 2 ? "ZAMO r_o=8" : "r_o=1e6", b.ac, b.ac - r_left,
                   b.ac + r_right, worst,
                   sum / BP_N_DIR, BP_N_DIR, px);
     return worst;
@@ -395,7 +423,7 @@ static void test_shadow_bardeen_curve(void **state)
     {
         bardeen b;
         double al1, al2, tmp, a = 0.9;
-        bardeen_init(&b, 1.0, a, 0.0, 0.5 * CR_PI);
+        bardeen_init(&b, 1.0, a, 0.0, 0.5 * CR_PI, 0.0);
         bardeen_point(&b, b.r1, &al1, &tmp);
         bardeen_point(&b, b.r2, &al2, &tmp);
         assert_true(fabs(al1 - (a - 6.0 * cos(acos(-a) / 3.0))) < 1e-9);
@@ -404,7 +432,7 @@ static void test_shadow_bardeen_curve(void **state)
             double q = k ? 0.7 : 0.0;
             double rph = 0.5 * (3.0 + sqrt(9.0 - 8.0 * q * q));
             double bc = rph * rph / sqrt(rph * rph - 2.0 * rph + q * q);
-            bardeen_init(&b, 1.0, 1e-3, q, 60.0 * CR_PI / 180.0);
+            bardeen_init(&b, 1.0, 1e-3, q, 60.0 * CR_PI / 180.0, 0.0);
             for (i = 0; i < 8; i++)
                 assert_true(fabs(bardeen_radius(&b, 0.4 * i) - bc) < 1e-5);
         }
@@ -422,6 +450,40 @@ static void test_shadow_bardeen_curve(void **state)
     assert_true(fabs(worst) < 0.5);
 }
 
+/* The shadow seen by a ZAMO at r_o = 8 M (issue 13): the critical photons'
+ * (lambda, eta) from R = R' = 0 projected onto the ZAMO's screen
+ * (bardeen_point with ro > 0) against the traced edge of the boosted-ZAMO
+ * camera, within 0.5 px of a 512 px image 2 atan(1) wide. The projection is
+ * first checked on its own: for a -> 0 it is the circle of angular radius
+ * psi of analytic_psi (to O(a^2)). */
+static void test_shadow_zamo_finite(void **state)
+{
+    const double spins[] = {0.9, 0.998, 0.6}, charges[] = {0.0, 0.0, 0.7};
+    const double incl[] = {85.0, 60.0};
+    double worst = 0.0;
+    int i, k;
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        bardeen b;
+        double q = k ? 0.7 : 0.0, psi = analytic_psi(1.0, q, BP_RO_ZAMO);
+        bardeen_init(&b, 1.0, 1e-3, q, 60.0 * CR_PI / 180.0, BP_RO_ZAMO);
+        for (i = 0; i < 8; i++)
+            assert_true(fabs(bardeen_radius(&b, 0.4 * i) - BP_RO_ZAMO * tan(psi)) < 1e-4);
+    }
+    for (i = 0; i < 3; i++)
+        for (k = 0; k < 2; k++) {
+            int left_flat;
+            double d = bardeen_check(spins[i], charges[i], incl[k], 2, &left_flat);
+            assert_true(left_flat);
+            if (fabs(d) > fabs(worst))
+                worst = d;
+        }
+    print_message("worst offset of the ZAMO's shadow from the projected critical curve: %+.2e "
+                  "px (allowed 0.5 px)\n",
+                  worst);
+    assert_true(fabs(worst) < 0.5);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -429,6 +491,7 @@ int main(void)
         cmocka_unit_test(test_shadow_reissner_nordstrom),
         cmocka_unit_test(test_shadow_kerr_equatorial_edges),
         cmocka_unit_test(test_shadow_bardeen_curve),
+        cmocka_unit_test(test_shadow_zamo_finite),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

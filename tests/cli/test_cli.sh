@@ -370,6 +370,26 @@ scene "sky boundary animated to inf" 1 "skymap.boundary[2]: inf (the sky at infi
 # outside the horizon (issue 11 items 2 and 3) --------------------------------
 scene "hfov 179: the flat screen cannot show it" 1 "observer.hfov = 179 deg: the flat screen cannot show more than 170 deg" \
     "$MET"$'observer: {r: 20, theta: 90, phi: 0, hfov: 179}\n'
+# --- moving observers and projections (issue 13) ----------------------------
+KERR=$'metric: {m: 1, a: 0.9, q: 0}\n'
+scene "motion: speed of light" 1 "observer.motion = [0.6, 0, 0.8]: the speed |v| = 1 must be below 1" \
+    "$KERR"$'observer: {r: 20, theta: 90, phi: 0, hfov: 60, motion: [0.6, 0, 0.8]}\n'
+scene "motion: speed reaches 1 in the last frame" 1 "frame 2 of 3: observer.motion = [0, 0, 1.1]" \
+    "$KERR"$'observer: {r: 20, theta: 90, phi: 0, hfov: 60, motion: [0, 0, [linear, 0, 1.1]]}\n' -f 3
+scene "motion: orbit inside the photon orbit" 1 "observer.motion = orbit: no timelike circular orbit exists at observer.r = 1.5" \
+    "$KERR"$'observer: {r: 1.5, theta: 90, phi: 0, hfov: 60, motion: orbit}\n'
+scene "motion: orbit off the equator" 1 "observer.motion = orbit: circular orbits lie in the equatorial plane" \
+    "$KERR"$'observer: {r: 10, theta: 60, phi: 0, hfov: 60, motion: orbit}\n'
+scene "motion: static inside the ergosphere" 1 "observer.r = 1.8 at theta = 90 deg is inside the ergosphere" \
+    "$KERR"$'observer: {r: 1.8, theta: 90, phi: 0, hfov: 60, motion: static}\n'
+scene "motion: unknown" 1 "observer.motion: unknown motion" \
+    "$KERR"$'observer: {r: 10, theta: 90, phi: 0, hfov: 60, motion: hover}\n'
+scene "projection: unknown" 1 "observer.projection: unknown projection \"cubemap\" (expected one of: rectilinear, fisheye, equirectangular)" \
+    "$KERR"$'observer: {r: 10, theta: 90, phi: 0, hfov: 60, projection: cubemap}\n'
+scene "projection: fisheye over 360 deg" 1 "observer.hfov = 400 deg: a fisheye's field of view must lie above 0 and at most 360 deg" \
+    "$KERR"$'observer: {r: 10, theta: 90, phi: 0, hfov: 400, projection: fisheye}\n'
+scene "motion at infinity" 1 "observer.motion: the observer at infinity (r: inf) is static" \
+    "$KERR"$'observer: {r: inf, theta: 90, phi: 0, hextent: 30, motion: infall}\n'
 # rays that end on max_steps: own colour (yellow), a warning, a line in info.txt
 rm -rf o
 printf 'raytracer: {integrator: rk4, max_steps: 50}\n' >limits.yml
