@@ -5,9 +5,14 @@
 # fuzzing and valgrind checks.)
 set -euo pipefail
 # FFmpeg's libraries are optional for the build (-t v videos) but installed
-# here so that CI builds and tests the video output.
+# here so that CI builds and tests the video output. cfitsio (-t f FITS) likewise.
+# Python 3 with venv, NumPy, pytest and astropy: the Python package and its
+# tests (test_python).
 pkgs=(cmake make gcc pkg-config libyaml-dev libpng-dev zlib1g-dev libcmocka-dev
-      libavcodec-dev libavformat-dev libswscale-dev libavutil-dev "$@")
+      libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
+      libcfitsio-dev
+      python3-dev python3-venv python3-numpy python3-pytest python3-astropy python3-setuptools
+      python3-wheel "$@")
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,189 @@
+"""curray from Python: render frames into NumPy arrays, trace one ray's path.
+
+    import curray
+    img = curray.render("scenes/demo.yml", 320, 240)          # or a dict
+    img["rgb"]        # (240, 320, 3) uint8
+    img["redshift"]   # (240, 320) float64, -1 where undefined (as in the CSV)
+    p = curray.trace("scenes/demo.yml", pixel=(160, 60), width=320, height=240)
+    p.x, p.y, p.z     # the ray's path in Cartesian coordinates (units of M)
+
+Both call curray's C library (the command line's scene loader, CPU backend
+and trace loop); bad input raises ValueError with the command line's message.
+"""
+import json
+import math
+import os
+import re
+
+import numpy as np
+
+from . import _curray
+
+__all__ = ["render", "trace", "OUTCOMES", "PATH_COLUMNS", "CONFIG_KEYS", "__version__"]
+
+_C = _curray._constants()
+__version__ = _C["version"]
+#: outcome names by code: outcome array value k means OUTCOMES[k]
+OUTCOMES = _C["outcomes"]
+#: columns of a ray path (see trace)
+PATH_COLUMNS = tuple(_C["path_columns"].split(","))
+
+#: keyword arguments of render/trace and the config.yml key each sets
+CONFIG_KEYS = {
+    "integrator": "raytracer.integrator",
+    "tolerance": "raytracer.tolerance",
+    "horizon_epsilon": "raytracer.horizon_epsilon",
+    "step_multiplier": "raytracer.step_multiplier",
+    "max_steps": "raytracer.max_steps",
+    "max_turns": "raytracer.max_turns",
+    "samples": "raytracer.samples",
+    "threads": "cpu.threads",
+}
+
+_PLAIN = re.compile(r"^[A-Za-z0-9_.+-][A-Za-z0-9 _.+-]*$")
+
+
+def _scalar(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        v = float(v)
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(v, str):
+        return v if _PLAIN.match(v) and not v.endswith(" ") else json.dumps(v)
+    raise ValueError("scene: cannot write a %s (%r) as a YAML value" % (type(v).__name__, v))
+
+
+def _yaml(d, indent=0):
+    """Block YAML of a dict (one key a line, so messages name a line). A list
+    of dicts under a key repeats the key (scene files repeat `sphere:`)."""
+    pad = "  " * indent
+    out = []
+    for k, v in d.items():
+        if isinstance(v, dict):
+            out.append("%s%s:\n%s" % (pad, k, _yaml(v, indent + 1)))
+        elif isinstance(v, (list, tuple)) and v and all(isinstance(e, dict) for e in v):
+            for e in v:
+                out.append("%s%s:\n%s" % (pad, k, _yaml(e, indent + 1)))
+        elif isinstance(v, (list, tuple, np.ndarray)):
+            out.append("%s%s: [%s]\n" % (pad, k, ", ".join(_scalar(e) for e in v)))
+        else:
+            out.append("%s%s: %s\n" % (pad, k, _scalar(v)))
+    return "".join(out)
+
+
+def _scene_args(scene):
+    if isinstance(scene, dict):
+        return _yaml(scene), False, "(scene dict)"
+    if isinstance(scene, (str, bytes, os.PathLike)):
+        path = os.fsdecode(scene)
+        return path, True, path
+    raise ValueError("scene: expected a dict or the path of a YAML scene file, got %s"
+                     % type(scene).__name__)
+
+
+def _config_text(config):
+    sections = {}
+    for k, v in config.items():
+        if k not in CONFIG_KEYS:
+            raise ValueError("unknown keyword argument '%s'; use any of %s, frame, frames"
+                             % (k, ", ".join(sorted(CONFIG_KEYS))))
+        sec, key = CONFIG_KEYS[k].split(".")
+        sections.setdefault(sec, {})[key] = v
+    return _yaml(sections)
+
+
+def _common(scene, width, height, frame, frames, config):
+    text, is_path, name = _scene_args(scene)
+    for what, v in (("width", width), ("height", height), ("frame", frame), ("frames", frames)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise ValueError("%s: expected an integer, got %r" % (what, v))
+    return dict(scene=text, is_path=is_path, name=name, config=_config_text(config),
+                width=int(width), height=int(height), frame=int(frame), frames=int(frames))
+
+
+def _pixel_dtype():
+    lay = _curray._pixel_layout()
+    fields = [("redshift", "<f8"), ("err_mean", "<f8"), ("err_std", "<f8"), ("hit_r", "<f8"),
+              ("hit_phi", "<f8"), ("steps", "<u4"), ("object", "<i2"), ("outcome", "u1"),
+              ("color", "u1", (3,))]
+    return np.dtype({"names": [f[0] for f in fields],
+                     "formats": [f[1] if len(f) == 2 else (f[1], f[2]) for f in fields],
+                     "offsets": [lay[f[0]] for f in fields],
+                     "itemsize": lay["itemsize"]})
+
+
+_PIXEL = _pixel_dtype()
+_NO_SOURCE = (OUTCOMES.index("none"), OUTCOMES.index("error"), OUTCOMES.index("limit"))
+_HIT = (OUTCOMES.index("disc"), OUTCOMES.index("sphere"))
+
+
+def render(scene, width, height, frame=0, frames=1, **config):
+    """Render frame `frame` of `frames` of `scene` at width x height pixels on
+    the CPU (every core unless threads=N), with the GIL released.
+
+    scene: a dict with the keys of a scene file (README "Scene file"; a list
+    of dicts under "sphere" gives several spheres) or the path of a YAML scene
+    file. config: the raytracer settings of config.yml as keywords
+    (CONFIG_KEYS: integrator, tolerance, samples, ..., threads).
+
+    Returns a dict of arrays, row 0 at the top, column 0 at the left (the
+    CSV's x, y): rgb (H, W, 3) uint8; redshift float64 (-1 where undefined,
+    as in the CSV); outcome uint8 (codes into OUTCOMES); steps uint32;
+    err_mean, err_std float64; hit_r, hit_phi float64 (-1 unless disc or
+    sphere); object int16 (sphere index, disc face 0 top / 1 bottom, -1).
+    Raises ValueError with the command line's message on bad input.
+    """
+    args = _common(scene, width, height, frame, frames, config)
+    buf = _curray._render(**args)
+    px = np.frombuffer(buf, dtype=_PIXEL).reshape(args["height"], args["width"])
+    out = {"rgb": np.ascontiguousarray(px["color"])}
+    for k in ("steps", "err_mean", "err_std", "object", "outcome"):
+        out[k] = np.ascontiguousarray(px[k])
+    undefined = np.isin(out["outcome"], _NO_SOURCE) | np.isnan(px["redshift"])
+    out["redshift"] = np.where(undefined, -1.0, px["redshift"])
+    hit = np.isin(out["outcome"], _HIT)
+    out["hit_r"] = np.where(hit, px["hit_r"], -1.0)
+    out["hit_phi"] = np.where(hit, px["hit_phi"], -1.0)
+    return out
+
+
+class RayPath(dict):
+    """The path of one ray: arrays under PATH_COLUMNS (also as attributes)
+    and what the ray reports: outcome (a word of OUTCOMES), hit_r, hit_phi,
+    redshift, steps."""
+
+    def __getattr__(self, k):
+        try:
+            return self[k]
+        except KeyError:
+            raise AttributeError(k) from None
+
+
+def trace(scene, pixel, width, height, frame=0, frames=1, **config):
+    """The path of the ray of pixel (i, j) = (column from the left, row from
+    the top) of the width x height image of `scene`, from the image's own
+    trace loop (the same as curray --trace i,j). Arguments as for render.
+
+    Returns a RayPath: param (affine parameter under rk4, Mino time under
+    mino), t, r, theta, phi (BL; phi continuous), x, y, z (Cartesian), and
+    ut, ur, utheta, uphi (dx^mu/dlambda of the backward tangent), one entry a
+    point from the observer to the end; lengths in units of M.
+    """
+    try:
+        i, j = pixel
+    except (TypeError, ValueError):
+        raise ValueError("pixel: expected (i, j), got %r" % (pixel,)) from None
+    for v in (i, j):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise ValueError("pixel: expected integers (i, j), got %r" % (pixel,))
+    args = _common(scene, width, height, frame, frames, config)
+    raw, n, outcome, hit_r, hit_phi, redshift, steps = _curray._trace(i=int(i), j=int(j), **args)
+    a = np.frombuffer(raw, dtype="<f8").reshape(n, len(PATH_COLUMNS))
+    p = RayPath((c, a[:, k].copy()) for k, c in enumerate(PATH_COLUMNS))
+    p.update(outcome=outcome, hit_r=hit_r, hit_phi=hit_phi, redshift=redshift, steps=steps)
+    return p

@@ -1,0 +1,357 @@
+"""Tests of the Python package (python/), run by tests/python/run.sh (CTest's
+test_python) with CURRAY_BIN = the command line built alongside.
+
+Known answers used here, independent of the code under test:
+- the command line's d_<k>.csv and --trace CSV of the same render (the same
+  C library, but a different front end: arrays must equal them exactly);
+- the Kerr-Newman metric written out below in NumPy: every path point must be
+  null, g(u, u) = 0, to a stated tolerance;
+- a radial Schwarzschild ray: t(r) = -(r*(r_o) - r*(r)), r* = r + 2 ln(r/2 - 1);
+- the rk4 integrator (t in its state) for the coordinate time mino computes
+  by quadrature.
+"""
+import csv
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+from astropy.io import fits
+
+import curray
+
+BIN = os.environ.get("CURRAY_BIN", "curray")
+SRC = os.environ.get("CURRAY_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+W, H = 32, 24
+
+# Scenes as text (YAML), written to files for the command line; the same
+# scenes as dicts exercise the dict path.
+KN_DICT = {
+    "metric": {"m": 1, "a": 0.9, "q": 0.3},
+    "sky_color": [0, 0, 0],
+    "horizon_color": [255, 0, 0],
+    "observer": {"r": 40, "theta": "80 deg", "phi": 0, "hfov": "40 deg"},
+    "accretion": {"radius": [3, 12], "resolution": [2, 12], "color1": [0, 255, 0]},
+}
+KN_YAML = """metric:
+  m: 1
+  a: 0.9
+  q: 0.3
+sky_color: [0, 0, 0]
+horizon_color: [255, 0, 0]
+observer:
+  r: 40
+  theta: 80 deg
+  phi: 0
+  hfov: 40 deg
+accretion:
+  radius: [3, 12]
+  resolution: [2, 12]
+  color1: [0, 255, 0]
+"""
+INF_YAML = """metric: {m: 2, a: 1.4, q: 0}
+observer: {r: inf, theta: 60 deg, phi: 0, hextent: 60}
+accretion: {radius: [8, 24], resolution: [2, 12], color1: [0, 255, 0]}
+"""
+SPHERE_YAML = os.path.join(SRC, "scenes", "listing-7.1.3-sphere-around-horizon.yml")
+DEMO_YAML = os.path.join(SRC, "scenes", "demo.yml")
+
+
+@pytest.fixture(scope="module")
+def scenes(tmp_path_factory):
+    d = tmp_path_factory.mktemp("scenes")
+    out = {}
+    for name, text in (("kn", KN_YAML), ("inf", INF_YAML)):
+        p = d / (name + ".yml")
+        p.write_text(text)
+        out[name] = str(p)
+    out["sphere"] = SPHERE_YAML
+    out["demo"] = DEMO_YAML
+    return out
+
+
+def run_cli(*args, ok=True):
+    r = subprocess.run([BIN, "-a", "true", "-q", "--threads", "2"] + [str(a) for a in args],
+                       capture_output=True, text=True)
+    if ok:
+        assert r.returncode == 0, r.stderr
+    return r
+
+
+def read_csv(path):
+    with open(path) as fp:
+        rows = list(csv.reader(fp))
+    return rows[0], rows[1:]
+
+
+# ---- render == the command line's CSV -------------------------------------
+
+@pytest.mark.parametrize("name", ["kn", "inf", "sphere", "demo"])
+@pytest.mark.parametrize("config", [{}, {"integrator": "rk4"}, {"samples": 2}])
+def test_render_equals_cli_csv(scenes, tmp_path, name, config):
+    if name == "inf" and config.get("integrator") == "rk4":
+        pytest.skip("rk4 cannot start at infinity (the scene is refused; tested below)")
+    cfg = tmp_path / "config.yml"
+    cfg.write_text("raytracer:\n" + "".join("  %s: %s\n" % kv for kv in config.items()))
+    run_cli("-s", scenes[name], "-o", tmp_path, "-x", W, "-y", H, "-t", "d", "-c", cfg)
+    header, rows = read_csv(tmp_path / "d_0.csv")
+    img = curray.render(scenes[name], W, H, threads=2, **config)
+    assert img["rgb"].shape == (H, W, 3) and img["rgb"].dtype == np.uint8
+    for k in ("redshift", "hit_r", "hit_phi", "err_mean", "err_std"):
+        assert img[k].shape == (H, W) and img[k].dtype == np.float64, k
+    assert img["outcome"].dtype == np.uint8 and img["steps"].dtype == np.uint32
+    # every CSV column has its array (a column added to the CSV must be added
+    # to curray.render too)
+    col = {h: i for i, h in enumerate(header)}
+    known = {"x", "y", "r", "g", "b", "steps", "redshift", "err_mean", "err_std", "outcome",
+             "hit_r", "hit_phi"}
+    assert set(header) <= known, "CSV columns without a render() array: %s" % (
+        set(header) - known)
+    assert len(rows) == W * H
+    a = np.array(rows, dtype=object)
+    x = a[:, col["x"]].astype(int)
+    y = a[:, col["y"]].astype(int)
+    for c, k in (("r", 0), ("g", 1), ("b", 2)):
+        assert np.array_equal(a[:, col[c]].astype(int), img["rgb"][y, x, k]), c
+    assert np.array_equal(a[:, col["steps"]].astype(np.int64), img["steps"][y, x])
+    for k in ("redshift", "err_mean", "err_std", "hit_r", "hit_phi"):
+        assert np.array_equal(a[:, col[k]].astype(float), img[k][y, x]), k
+    names = np.array(curray.OUTCOMES)[img["outcome"][y, x]]
+    assert np.array_equal(a[:, col["outcome"]].astype(str), names)
+
+
+def test_render_dict_equals_file(scenes):
+    a = curray.render(KN_DICT, W, H, threads=1)
+    b = curray.render(scenes["kn"], W, H, threads=2)
+    for k in a:
+        assert np.array_equal(a[k], b[k]), k
+    # a scene with every outcome of the tests below
+    assert {"disc", "horizon", "sky"} <= {curray.OUTCOMES[o] for o in np.unique(a["outcome"])}
+
+
+# ---- FITS -----------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["kn", "inf"])
+def test_fits(scenes, tmp_path, name):
+    run_cli("-s", scenes[name], "-o", tmp_path, "-x", W, "-y", H, "-t", "df", "-f", 2)
+    for k in range(2):
+        header, rows = read_csv(tmp_path / ("d_%d.csv" % k))
+        col = {h: i for i, h in enumerate(header)}
+        a = np.array(rows, dtype=object)
+        grid = lambda c, t=float: a[:, col[c]].astype(t).reshape(H, W)
+        with fits.open(tmp_path / ("f_%d.fits" % k)) as hd:
+            names = [h.name for h in hd]
+            assert names == ["PRIMARY", "REDSHIFT", "HIT_R", "HIT_PHI", "OUTCOME", "STEPS",
+                             "NULLERR", "NULLSTD"]
+            p = hd[0].header
+            assert p["METRIC"] == "Kerr-Newman" and p["UNITS"] == "G = c = 1"
+            assert p["FRAME"] == k and p["NFRAMES"] == 2 and p["INTEGRAT"] == "mino"
+            assert p["TOLERANC"] == 1e-7
+            if name == "kn":
+                assert p["BH_MASS"] == 1 and p["BH_SPIN"] == 0.9 and p["BH_CHRG"] == 0.3
+                assert p["OBS_INF"] is False and p["OBS_R"] == 40
+                assert abs(p["HFOV"] - 40) < 1e-12 and 0 < p["VFOV"] < 40
+                assert abs(p["OBS_TH"] - 80) < 1e-12
+            else:  # lengths in units of M = 2
+                assert p["BH_MASS"] == 2 and p["BH_SPIN"] == 0.7 and p["OBS_INF"] is True
+                assert p["HEXTENT"] == 30 and abs(p["VEXTENT"] - 30 * H / W) < 1e-12
+            for o, word in enumerate(curray.OUTCOMES):
+                assert p["OUTCOME%d" % o] == word
+            for ext, dtype in (("REDSHIFT", np.float64), ("HIT_R", np.float64),
+                               ("HIT_PHI", np.float64), ("OUTCOME", np.uint8),
+                               ("STEPS", np.uint32), ("NULLERR", np.float64),
+                               ("NULLSTD", np.float64)):
+                d = hd[ext].data
+                assert d.shape == (H, W) and d.dtype.type == dtype, ext  # big-endian
+            assert hd["HIT_R"].header["BUNIT"] == "M"
+            # FITS rows run bottom-up: data[::-1] is the CSV's row order
+            up = lambda e: hd[e].data[::-1]
+            nan_for = lambda v: np.where(v == -1.0, np.nan, v)
+            assert np.array_equal(up("REDSHIFT"), nan_for(grid("redshift")), equal_nan=True)
+            assert np.array_equal(up("HIT_R"), nan_for(grid("hit_r")), equal_nan=True)
+            assert np.array_equal(up("HIT_PHI"), nan_for(grid("hit_phi")), equal_nan=True)
+            assert np.array_equal(up("STEPS"), grid("steps", np.int64))
+            assert np.array_equal(up("NULLERR"), grid("err_mean"))
+            assert np.array_equal(up("NULLSTD"), grid("err_std"))
+            words = np.array(curray.OUTCOMES)[up("OUTCOME")]
+            assert np.array_equal(words, grid("outcome", str))
+    # atomic: nothing but the outputs (no temporary left behind)
+    assert sorted(os.listdir(tmp_path)) == ["d_0.csv", "d_1.csv", "f_0.fits", "f_1.fits", "log"]
+
+
+# ---- ray paths ------------------------------------------------------------
+
+def kn_metric(r, th, a, q, m=1.0):
+    """Kerr-Newman in Boyer-Lindquist coordinates (signature -+++)."""
+    s2, c2 = np.sin(th) ** 2, np.cos(th) ** 2
+    sig = r * r + a * a * c2
+    dl = r * r - 2 * m * r + a * a + q * q
+    w = 2 * m * r - q * q
+    return (-(1 - w / sig), -a * s2 * w / sig, sig / dl, sig,
+            s2 * (r * r + a * a + a * a * s2 * w / sig))
+
+
+def null_residual(p, a, q):
+    """|g(u, u)| over the sum of the magnitudes of its terms, per point."""
+    gtt, gtp, grr, gthth, gpp = kn_metric(p.r, p.theta, a, q)
+    terms = np.array([gtt * p.ut ** 2, 2 * gtp * p.ut * p.uphi, grr * p.ur ** 2,
+                      gthth * p.utheta ** 2, gpp * p.uphi ** 2])
+    return np.abs(terms.sum(axis=0)) / np.abs(terms).sum(axis=0)
+
+
+def pixels_by_outcome(img):
+    """One pixel (i, j) per outcome word, the first in row order."""
+    out = {}
+    for j in range(H):
+        for i in range(W):
+            out.setdefault(curray.OUTCOMES[img["outcome"][j, i]], (i, j))
+    return out
+
+
+# Null-condition tolerance per integrator: mino's first-integral residuals
+# follow its tolerance 1e-7 (the error monitor of README "Integrators"),
+# rk4 keeps E, L exact and its null error small; measured worst: mino 3.8e-8,
+# rk4 2.0e-8 on the Kerr-Newman scene below.
+NULL_TOL = {"mino": 1e-6, "rk4": 1e-6}
+
+
+@pytest.mark.parametrize("integrator", ["mino", "rk4"])
+def test_trace_null_and_ends(scenes, integrator):
+    a, q = 0.9, 0.3
+    r_plus = 1 + math.sqrt(1 - a * a - q * q)
+    img = curray.render(scenes["kn"], W, H, integrator=integrator)
+    pix = pixels_by_outcome(img)
+    assert {"disc", "horizon", "sky"} <= set(pix)
+    worst = 0.0
+    for word in ("disc", "horizon", "sky"):
+        i, j = pix[word]
+        p = curray.trace(scenes["kn"], pixel=(i, j), width=W, height=H, integrator=integrator)
+        assert p.outcome == word and len(p.r) >= 3
+        assert np.all(np.isfinite(np.vstack([p[c] for c in curray.PATH_COLUMNS])))
+        # starts at the observer, parameter and t increasing/decreasing
+        assert p.r[0] == 40 and p.t[0] == 0 and p.param[0] == 0
+        assert np.all(np.diff(p.param) > 0) and np.all(np.diff(p.t) < 0)
+        res = null_residual(p, a, q)
+        worst = max(worst, res.max())
+        assert res.max() < NULL_TOL[integrator], (word, res.max())
+        # Cartesian (2.2.8) from the BL columns
+        rho = np.sqrt(p.r ** 2 + a * a)
+        assert np.allclose(p.x, rho * np.sin(p.theta) * np.cos(p.phi), atol=1e-9 * rho)
+        assert np.allclose(p.z, p.r * np.cos(p.theta), atol=1e-9 * rho)
+        if word == "disc":  # ends on the disc where the image says
+            assert abs(math.cos(p.theta[-1])) < 1e-9
+            assert p.r[-1] == img["hit_r"][j, i] and 3 <= p.r[-1] <= 12
+            assert abs(p.phi[-1] % (2 * math.pi) - img["hit_phi"][j, i]) < 1e-12
+        elif word == "horizon":  # at the stop r+ + horizon_epsilon (0.005)
+            assert r_plus < p.r[-1] <= r_plus + 0.005 + 1e-12
+        else:  # left the scene boundary (observer's r + M) outward
+            assert p.r[-1] >= 41 * (1 - 1e-12) and p.ur[-1] > 0
+    print("worst null residual (%s): %.3g" % (integrator, worst))
+
+
+def test_trace_matches_cli(scenes, tmp_path):
+    for name, (i, j), config in (("kn", (16, 12), {}), ("kn", (3, 20), {"integrator": "rk4"}),
+                                 ("inf", (20, 9), {}), ("sphere", (12, 15), {"samples": 2})):
+        cfg = tmp_path / "config.yml"
+        cfg.write_text("raytracer:\n" + "".join("  %s: %s\n" % kv for kv in config.items()))
+        run_cli("-s", scenes[name], "-o", tmp_path, "-x", W, "-y", H, "--trace",
+                "%d,%d" % (i, j), "-c", cfg)
+        header, rows = read_csv(tmp_path / ("trace_%d_%d_0.csv" % (i, j)))
+        assert tuple(header) == curray.PATH_COLUMNS
+        cli = np.array(rows, dtype=float)
+        p = curray.trace(scenes[name], pixel=(i, j), width=W, height=H, **config)
+        py = np.column_stack([p[c] for c in curray.PATH_COLUMNS])
+        assert np.array_equal(cli, py), name
+        img = curray.render(scenes[name], W, H, **config)
+        assert p.outcome == curray.OUTCOMES[img["outcome"][j, i]]
+        if p.outcome in ("disc", "sphere"):
+            assert p.hit_r == img["hit_r"][j, i]
+    # --trace writes the path files only
+    assert not any(f.startswith(("d_", "c_", "info")) for f in os.listdir(tmp_path))
+
+
+def test_trace_radial_schwarzschild_time():
+    """A ray from the image centre of a Schwarzschild hole seen from the
+    equator runs radially: t(r) = -(r*(r_o) - r*(r)), r* = r + 2 ln(r/2 - 1)."""
+    scene = {"metric": {"m": 1, "a": 0, "q": 0},
+             "observer": {"r": 30, "theta": 90, "phi": 0, "hfov": 40}}
+    rstar = lambda r: r + 2 * np.log(r / 2 - 1)
+    for integ, tol in (("mino", 1e-9), ("rk4", 1e-8)):
+        p = curray.trace(scene, pixel=(2, 2), width=5, height=5, integrator=integ)
+        assert p.outcome == "horizon"
+        assert np.allclose(p.theta, math.pi / 2, atol=1e-12)
+        err = np.abs(p.t + (rstar(30.0) - rstar(p.r)))
+        assert err.max() < tol * abs(p.t[-1]), (integ, err.max())
+
+
+def test_trace_time_mino_vs_rk4(scenes):
+    """mino's quadrature of t against rk4, which integrates t: the same disc
+    point (to 1e-6 M) at the same coordinate time (1e-5 relative)."""
+    img = curray.render(scenes["kn"], W, H)
+    i, j = pixels_by_outcome(img)["disc"]
+    pm = curray.trace(scenes["kn"], pixel=(i, j), width=W, height=H)
+    pr = curray.trace(scenes["kn"], pixel=(i, j), width=W, height=H, integrator="rk4",
+                      step_multiplier=1 / 128)
+    assert pm.outcome == pr.outcome == "disc"
+    assert abs(pm.r[-1] - pr.r[-1]) < 1e-5
+    assert abs(pm.t[-1] - pr.t[-1]) < 1e-5 * abs(pr.t[-1])
+
+
+def test_trace_from_infinity(scenes):
+    """An observer at infinity: the path starts at the end of the first step
+    (t counted from there) and is null; t is not defined at r = inf."""
+    p = curray.trace(scenes["inf"], pixel=(20, 9), width=W, height=H)
+    assert np.isfinite(p.r[0]) and p.t[0] == 0 and p.param[0] > 0
+    assert null_residual(p, 0.7, 0.0).max() < NULL_TOL["mino"]
+
+
+# ---- bad input --------------------------------------------------------------
+
+def test_bad_input_raises_value_error_with_cli_message(scenes, tmp_path):
+    bad = tmp_path / "bad.yml"
+    bad.write_text("metric:\n  m: 1\n  a: 2\n  q: 0\nobserver: {r: 30, theta: 90, phi: 0, hfov: 70}\n")
+    junk = tmp_path / "junk.yml"
+    junk.write_text("metric: [unclosed\n")
+    for path in (bad, junk, tmp_path / "missing.yml"):
+        with pytest.raises(ValueError) as e:
+            curray.render(str(path), 8, 8)
+        r = run_cli("-s", path, "-o", tmp_path / "o", "-x", 8, "-y", 8, ok=False)
+        assert r.returncode != 0
+        assert "curray: " + str(e.value) in r.stderr, (str(e.value), r.stderr)
+    # the observer at infinity with rk4 is refused the same way
+    with pytest.raises(ValueError, match="rk4"):
+        curray.render(scenes["inf"], 8, 8, integrator="rk4")
+
+
+@pytest.mark.parametrize("call", [
+    lambda: curray.render({"metric": {"m": 1}}, 8, 8),
+    lambda: curray.render({"metric": {"m": 1, "a": 0, "q": 0}, "observer": {"r": "x"}}, 8, 8),
+    lambda: curray.render(DEMO_YAML, 0, 8),
+    lambda: curray.render(DEMO_YAML, 8, 70000),
+    lambda: curray.render(DEMO_YAML, 8.5, 8),
+    lambda: curray.render(DEMO_YAML, 8, 8, tolerance=-1),
+    lambda: curray.render(DEMO_YAML, 8, 8, integrator="euler"),
+    lambda: curray.render(DEMO_YAML, 8, 8, samples=17),
+    lambda: curray.render(DEMO_YAML, 8, 8, threads=10 ** 6),
+    lambda: curray.render(DEMO_YAML, 8, 8, colour="red"),
+    lambda: curray.render(DEMO_YAML, 8, 8, frame=1, frames=1),
+    lambda: curray.render(42, 8, 8),
+    lambda: curray.render({"metric": {"m": object()}}, 8, 8),
+    lambda: curray.trace(DEMO_YAML, pixel=(8, 0), width=8, height=8),
+    lambda: curray.trace(DEMO_YAML, pixel=(-1, 0), width=8, height=8),
+    lambda: curray.trace(DEMO_YAML, pixel=(1,), width=8, height=8),
+    lambda: curray.trace(DEMO_YAML, pixel="ab", width=8, height=8),
+])
+def test_bad_input_value_error(call):
+    with pytest.raises(ValueError) as e:
+        call()
+    assert str(e.value)
+
+
+def test_value_error_names_key_and_line():
+    with pytest.raises(ValueError, match=r"tolerance"):
+        curray.render(DEMO_YAML, 8, 8, tolerance=0)
+    with pytest.raises(ValueError, match=r"^scene file \(scene dict\): observer.hfov"):
+        curray.render({"metric": {"m": 1, "a": 0, "q": 0},
+                       "observer": {"r": 30, "theta": 90, "phi": 0, "hfov": 400}}, 8, 8)
