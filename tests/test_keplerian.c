@@ -10,7 +10,20 @@
  *    inclination 89.5 deg lies inside them and within 1.5 % of them;
  *  - the approaching side (image left: the disc turns counter-clockwise
  *    about +z, image right is toward increasing phi) has g > 1;
- *  - Mino and RK4 give the same g on the same disc pixels. */
+ *  - Mino and RK4 give the same g on the same disc pixels;
+ *  - plunging matter (inside_isco: plunging), face-on Schwarzschild from
+ *    infinity: a photon reaching the axis has L = 0 and Carter constant
+ *    b^2 E^2 (b = sqrt(alpha^2 + beta^2), the pixel's impact parameter), so
+ *    at the equator (1 - 2/r) p_r^2 = 1/(1 - 2/r) - b^2/r^2, p_r < 0 (inward:
+ *    the direct image meets the plane before periapsis) and
+ *    g = 1 / (u^t + p_r u^r) with u of the matter falling from r = 6 with
+ *    E = sqrt(8/9), L = sqrt(12): u^t = E/(1 - 2/r), (u^r)^2 = E^2 -
+ *    (1 - 2/r)(1 + L^2/r^2); the pixels are black and bolometric 0;
+ *  - the bolometric value g^4 F / F_max of the face-on disc against
+ *    g = sqrt(1 - 3/r) and the directly integrated flux (cr_orbit_flux);
+ *  - the physical temperature scale: M = 10 M_sun, mdot = 0.1 Eddington,
+ *    Schwarzschild: T_peak from Page & Thorne's closed form by hand;
+ *  - the CSV of a Keplerian disc: redshift = g, hit_r, bolometric. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -21,6 +34,7 @@
 #include <cmocka.h>
 
 #include "core/trace.h"
+#include "io/output.h"
 #include "io/scene.h"
 #include "testutil.h"
 
@@ -211,6 +225,183 @@ static void test_integrators_agree(void **state)
     cr_scene_free(&sr);
 }
 
+/* Face-on Schwarzschild disc with plunging matter, seen from infinity:
+ * the pixels of the centre row whose rays meet the plane inside the ISCO
+ * against the closed form of the header. */
+static void test_plunging(void **state)
+{
+    static const char text[] = "metric: {m: 1, a: 0, q: 0}\n"
+                               "observer: {r: inf, theta: 0, phi: 0, hextent: 30}\n"
+                               "accretion: {model: keplerian, radius: [20], inside_isco: plunging}\n";
+    static const char none[] = "metric: {m: 1, a: 0, q: 0}\n"
+                               "observer: {r: inf, theta: 0, phi: 0, hextent: 30}\n"
+                               "accretion: {model: keplerian, radius: [20]}\n";
+    const double E = sqrt(8.0 / 9.0), L = sqrt(12.0);
+    cr_frame f, f0;
+    cr_scene s, s0;
+    int n = 0, i;
+    double worst = 0.0, g_in = 0.0, g_out = 0.0, r_in_last = 0.0;
+    (void)state;
+    frame_from(text, CR_INTEG_MINO, 401, 401, &f, &s);
+    frame_from(none, CR_INTEG_MINO, 401, 401, &f0, &s0);
+    for (i = 0; i < 2000; i++) {
+        double x = 200.0 + 200.0 * i / 2000.0, alpha, beta, b, r, A, pr, ut, ur2, g;
+        cr_pixel p = trace_at(&f, x, 200.0), p0 = trace_at(&f0, x, 200.0);
+        if (p.outcome != CR_OUT_DISC)
+            continue;
+        if (p.hit_r >= 6.0) {
+            if (g_out == 0.0 && r_in_last > 0.0)
+                g_out = p.redshift;
+            assert_int_equal(p0.outcome, CR_OUT_DISC);
+            continue;
+        }
+        /* without plunging matter the ray passes through (and may meet the
+         * disc beyond the ISCO on a later crossing) */
+        assert_true(p0.outcome != CR_OUT_DISC || p0.hit_r >= 6.0);
+        assert_true(p.color.r == 0 && p.color.g == 0 && p.color.b == 0);
+        assert_true(p.bolo == 0.0);
+        cr_camera_screen(&f, x, 200.0, &alpha, &beta);
+        b = sqrt(alpha * alpha + beta * beta);
+        r = p.hit_r;
+        A = 1.0 - 2.0 / r;
+        pr = -sqrt((1.0 / A - b * b / (r * r)) / A);
+        ut = E / A;
+        ur2 = E * E - A * (1.0 + L * L / (r * r));
+        g = 1.0 / (ut + pr * -sqrt(ur2 > 0.0 ? ur2 : 0.0));
+        worst = fmax(worst, fabs(p.redshift - g));
+        g_in = p.redshift;
+        r_in_last = r;
+        n++;
+    }
+    print_message("plunging matter, face-on Schwarzschild: %d pixels inside the ISCO, worst |g - "
+                  "closed form| %.2e (tol 1e-7); across the ISCO g = %.6f (r = %.4f) -> %.6f\n",
+                  n, worst, g_in, r_in_last, g_out);
+    assert_true(n > 20);
+    assert_true(worst < 1e-7);
+    /* continuous across the ISCO: within the change of one pixel step */
+    assert_true(fabs(g_in - g_out) < 0.01);
+    cr_scene_free(&s);
+    cr_scene_free(&s0);
+}
+
+/* The bolometric value of a face-on disc seen from infinity: g^4 F / F_max
+ * with g = sqrt(1 - 3/r) and F by direct quadrature (tol 2e-5: the flux
+ * table's interpolation error is below 1e-5 of F_max). */
+static void test_bolometric(void **state)
+{
+    static const char text[] = "metric: {m: 1, a: 0, q: 0}\n"
+                               "observer: {r: inf, theta: 0, phi: 0, hextent: 50}\n"
+                               "accretion: {model: keplerian, radius: [20]}\n";
+    cr_frame f;
+    cr_scene s;
+    int i, n = 0;
+    double worst = 0.0, top = 0.0;
+    (void)state;
+    frame_from(text, CR_INTEG_MINO, 201, 201, &f, &s);
+    for (i = 0; i < 101; i++) {
+        cr_pixel p = cr_trace_pixel(&f, 100 + i, 100);
+        double g, want;
+        if (p.outcome != CR_OUT_DISC)
+            continue;
+        g = sqrt(1.0 - 3.0 / p.hit_r);
+        want = g * g * g * g * cr_orbit_flux(&f.metric, 1, 6.0, p.hit_r) / f.disc.flux.F_max;
+        worst = fmax(worst, fabs(p.bolo - want));
+        top = fmax(top, p.bolo);
+        n++;
+    }
+    print_message("bolometric g^4 F / F_max, face-on: %d pixels, worst error %.2e (tol 2e-5), "
+                  "largest %.4f\n",
+                  n, worst, top);
+    assert_true(n > 20 && top > 0.2);
+    assert_true(worst < 2e-5);
+    cr_scene_free(&s);
+}
+
+/* T_peak from mass_msun = 10, mdot_edd = 0.1, Schwarzschild. By hand (the
+ * constants of orbit.h: CODATA 2018 G, sigma_SB, m_p, sigma_T, IAU M_sun):
+ * Page & Thorne's closed form at a = 0, x = sqrt(r/M), x0 = sqrt(6),
+ *   F M^2 / Mdot = 3 / (8 pi) [x - x0 - (sqrt3/2) ln((x - sqrt3)/(x0 - sqrt3))
+ *                  + (sqrt3/2) ln((x + sqrt3)/(x0 + sqrt3))] / (x^4 (x^3 - 3x)),
+ * peaks at r = 9.550928 M with F_max = 1.3678110819830e-5 Mdot/M^2;
+ * eta = 1 - sqrt(8/9) = 0.05719095841794; Mdot_Edd = 4 pi G M m_p /
+ * (sigma_T c eta) = 2.4456941748372e16 kg/s; sigma T^4 = F_max (0.1
+ * Mdot_Edd) c^6 / (G M)^2 gives T_peak = 3948869.6997 K (mpmath, 30
+ * digits). Tolerance 1e-7 relative (F_max of the table search to 1e-10). */
+static void test_physical_temperature(void **state)
+{
+    static const char text[] = "metric: {m: 1, a: 0, q: 0}\n"
+                               "observer: {r: 100, theta: 80, phi: 0, hfov: 20}\n"
+                               "accretion: {model: keplerian, radius: [100], mass_msun: 10, "
+                               "mdot_edd: 0.1}\n";
+    cr_frame f;
+    cr_scene s;
+    (void)state;
+    frame_from(text, CR_INTEG_MINO, 8, 8, &f, &s);
+    print_message("T_peak (10 M_sun, 0.1 Eddington, a = 0) = %.6f K, by hand 3948869.6997 K, "
+                  "rel. diff %.2e (tol 1e-7); r_peak %.6f (9.550928)\n",
+                  f.disc.t_peak, f.disc.t_peak / 3948869.6997 - 1.0, f.disc.flux.r_peak);
+    assert_true(fabs(f.disc.t_peak / 3948869.6997 - 1.0) < 1e-7);
+    assert_true(fabs(f.disc.flux.r_peak - 9.550928) < 1e-5);
+    cr_scene_free(&s);
+}
+
+/* The CSV of a Keplerian disc frame: every disc row's redshift is the
+ * pixel's g (the Keplerian ratio recomputed from hit_r would need the ray;
+ * here: equal to the traced pixel, and within the bounds of the edge-on
+ * extremes is tested above), its bolometric column g^4 F(hit_r) / F_max from
+ * the direct quadrature and g (tol 2e-5), and every other row -1. */
+static void test_csv(void **state)
+{
+    static const char text[] = "metric: {m: 1, a: 0, q: 0}\n"
+                               "observer: {r: inf, theta: 0, phi: 0, hextent: 50}\n"
+                               "accretion: {model: keplerian, radius: [20]}\n";
+    enum { W = 24, H = 24 };
+    cr_frame f;
+    cr_scene s;
+    cr_pixel px[W * H];
+    cr_err err;
+    char line[512];
+    FILE *fp = tmpfile();
+    int i, rows = 0, disc = 0;
+    double worst = 0.0;
+    (void)state;
+    assert_non_null(fp);
+    frame_from(text, CR_INTEG_MINO, W, H, &f, &s);
+    for (i = 0; i < W * H; i++)
+        px[i] = cr_trace_pixel(&f, i % W, i / W);
+    assert_int_equal(cr_output_csv_stream(fp, "kep.csv", px, W, H, &err), 0);
+    rewind(fp);
+    assert_non_null(fgets(line, sizeof line, fp));
+    assert_string_equal(line, "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,"
+                              "bolometric\n");
+    while (fgets(line, sizeof line, fp)) {
+        int x, y;
+        double z, hr, hp, bolo;
+        char out[16];
+        assert_int_equal(sscanf(line, "%d,%d,%*d,%*d,%*d,%*d,%lf,%*f,%*f,%15[a-z],%lf,%lf,%lf", &x,
+                                &y, &z, out, &hr, &hp, &bolo),
+                         7);
+        rows++;
+        if (strcmp(out, "disc") != 0) {
+            assert_true(bolo == -1.0);
+            continue;
+        }
+        disc++;
+        assert_true(z == px[y * W + x].redshift && hr == px[y * W + x].hit_r);
+        worst = fmax(worst, fabs(bolo - pow(1.0 - 3.0 / hr, 2.0) *
+                                            cr_orbit_flux(&f.metric, 1, 6.0, hr) /
+                                            f.disc.flux.F_max));
+    }
+    print_message("CSV: %d rows, %d disc rows, bolometric column vs g^4 F / F_max worst %.2e "
+                  "(tol 2e-5)\n",
+                  rows, disc, worst);
+    assert_int_equal(rows, W * H);
+    assert_true(disc > 50);
+    assert_true(worst < 2e-5);
+    fclose(fp);
+    cr_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -218,6 +409,10 @@ int main(void)
         cmocka_unit_test(test_edge_on),
         cmocka_unit_test(test_integrators_agree),
         cmocka_unit_test(test_static_observer_on_axis),
+        cmocka_unit_test(test_plunging),
+        cmocka_unit_test(test_bolometric),
+        cmocka_unit_test(test_physical_temperature),
+        cmocka_unit_test(test_csv),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

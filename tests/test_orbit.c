@@ -17,6 +17,9 @@
  * - cr_shift_ratio with both ends static, and the frame's cr_redshift_static
  *   (the same ratio), equal the closed form sqrt(-g_tt)|e / sqrt(-g_tt)|o at
  *   random points outside the ergosurface and random null photons, to 1e-12.
+ * - Plunging matter inside the ISCO (test_plunge): normalised, E and L of
+ *   the ISCO conserved, the radial geodesic equation, continuous with the
+ *   circular orbit at r_isco.
  * - Face-on Schwarzschild ring seen from infinity: g = sqrt(1 - 3M/r) to 1e-13
  *   (Kerr: 1/u^t of BPT).
  * - Edge-on Schwarzschild ring: max and min over photons of g =
@@ -331,6 +334,98 @@ static double null_norm_dn(const cr_metric *mt, double r, double th, const doubl
     t = (-q.g_phph * p[0] * p[0] + 2.0 * q.g_tph * p[0] * p[3] - q.g_tt * p[3] * p[3]) / ds;
     return (t + p[1] * p[1] / q.g_rr + p[2] * p[2] / q.g_thth) /
            (fabs(t) + p[1] * p[1] / q.g_rr + p[2] * p[2] / q.g_thth);
+}
+
+/* Matter plunging from the ISCO (cr_orbit_plunge_velocity), random
+ * Kerr-Newman holes and senses, radii between r+ and r_isco:
+ * - g(u, u) = -1 with the full metric (tol 1e-12 relative to its terms);
+ * - u_t = -E_isco, u_phi = L_isco after lowering (tol 1e-12): the conserved
+ *   quantities of the geodesic;
+ * - the radial geodesic equation u^r d(u^r)/dr = -Gamma^r_mn u^m u^n, the
+ *   left side by a central difference of (u^r)^2 / 2 (tol 1e-6 relative);
+ * - u^r <= 0, u^t > 0;
+ * - continuity with the circular orbit: at r_isco u^t, u^phi equal the
+ *   circular orbit's (tol 1e-12) and |u^r| < 1e-7 (the square root of the
+ *   rounding of (u^r)^2 ~ 1e-16); just inside, u^t, u^phi within 1e-5 at
+ *   r_isco (1 - 1e-7), and u^r grows as (r_isco - r)^(3/2) (the ISCO is an
+ *   inflection point of the potential): u^r at 4e-3 and 1e-3 r_isco below
+ *   r_isco have the ratio 8 (tol 2 %; closer in, the rounding of (u^r)^2
+ *   dominates). */
+static void test_plunge(void **state)
+{
+    uint64_t seed = 4242;
+    double wn = 0.0, wel = 0.0, wg = 0.0, wc = 0.0, wc6 = 0.0, wur = 0.0, wratio = 0.0;
+    int n;
+    (void)state;
+    for (n = 0; n < 500; n++) {
+        double a = 2.0 * cr_test_rand(&seed) - 1.0;
+        double q = 0.95 * sqrt(1.0 - a * a) * (2.0 * cr_test_rand(&seed) - 1.0);
+        int s = (n & 1) ? 1 : -1, k;
+        cr_metric mt = mk(a, q);
+        double rp = cr_metric_r_plus(&mt), risco = cr_orbit_r_isco(&mt, s);
+        double r = rp + 0.01 + (risco - rp - 0.02) * cr_test_rand(&seed);
+        double u[4] = {0}, up[4] = {0}, um[4] = {0}, u4[4] = {0}, uc[4], g4[4][4], nrm, big;
+        double h = 1e-5 * r, lhs, rhs;
+        cr_orbit o;
+        cr_metric_point p;
+        cr_christoffel G;
+        if (!(risco - rp > 0.05))
+            continue;
+        assert_int_equal(cr_orbit_eval(&mt, s, risco, &o), 1);
+        assert_int_equal(cr_orbit_plunge_velocity(&mt, o.E, o.L, r, u), 1);
+        assert_true(u[0] > 0.0 && u[1] <= 0.0 && u[2] == 0.0);
+        cr_test_metric4(&mt, r, 0.5 * CR_PI, g4);
+        nrm = cr_test_dot(g4, u, u);
+        big = fabs(g4[0][0]) * u[0] * u[0] + 2.0 * fabs(g4[0][3] * u[0] * u[3]) +
+              g4[3][3] * u[3] * u[3] + g4[1][1] * u[1] * u[1];
+        wn = fmax(wn, fabs(nrm + 1.0) / big);
+        wel = fmax(wel, fabs(-(g4[0][0] * u[0] + g4[0][3] * u[3]) - o.E) / o.E);
+        wel = fmax(wel, fabs(g4[3][0] * u[0] + g4[3][3] * u[3] - o.L) / fmax(fabs(o.L), 1.0));
+        /* radial geodesic equation */
+        assert_int_equal(cr_orbit_plunge_velocity(&mt, o.E, o.L, r + h, up), 1);
+        assert_int_equal(cr_orbit_plunge_velocity(&mt, o.E, o.L, r - h, um), 1);
+        lhs = 0.5 * (up[1] * up[1] - um[1] * um[1]) / (2.0 * h);
+        cr_metric_eval(&mt, r, 0.5 * CR_PI, &p);
+        cr_christoffel_eval(&mt, r, &p, &G);
+        rhs = -(G.r_tt * u[0] * u[0] + 2.0 * G.r_tph * u[0] * u[3] + G.r_phph * u[3] * u[3] +
+                G.r_rr * u[1] * u[1]);
+        big = fabs(G.r_tt * u[0] * u[0]) + fabs(2.0 * G.r_tph * u[0] * u[3]) +
+              fabs(G.r_phph * u[3] * u[3]) + fabs(G.r_rr * u[1] * u[1]);
+        wg = fmax(wg, fabs(lhs - rhs) / big);
+        /* continuity at the ISCO */
+        cr_orbit_velocity(&o, uc);
+        assert_int_equal(cr_orbit_plunge_velocity(&mt, o.E, o.L, risco, up), 1);
+        assert_int_equal(cr_orbit_plunge_velocity(&mt, o.E, o.L, risco * (1.0 - 1e-7), um), 1);
+        for (k = 0; k < 4; k += 3) {
+            wc = fmax(wc, fabs(up[k] - uc[k]) / fmax(fabs(uc[k]), 1.0));
+            wc6 = fmax(wc6, fabs(um[k] - uc[k]) / fmax(fabs(uc[k]), 1.0));
+        }
+        wur = fmax(wur, fabs(up[1]));
+        /* the power law of u^r below the ISCO */
+        assert_int_equal(cr_orbit_plunge_velocity(&mt, o.E, o.L, risco * (1.0 - 1e-3), um), 1);
+        assert_int_equal(cr_orbit_plunge_velocity(&mt, o.E, o.L, risco * (1.0 - 4e-3), u4), 1);
+        assert_true(um[1] < 0.0);
+        wratio = fmax(wratio, fabs(u4[1] / um[1] / 8.0 - 1.0));
+    }
+    print_message("plunging from the ISCO, 500 random holes: |g(u,u)+1| %.2g (tol 1e-12), "
+                  "E/L vs lowered u %.2g (tol 1e-12), radial geodesic residual %.2g (tol "
+                  "1e-6), u^t, u^phi - circular at r_isco %.2g (tol 1e-12), at r_isco (1 - "
+                  "1e-7) %.2g (tol 1e-5); |u^r| at r_isco %.2g (tol 1e-7); u^r(4e-3 below) / "
+                  "u^r(1e-3 below) = 8 to %.2g (tol 0.02)\n",
+                  wn, wel, wg, wc, wc6, wur, wratio);
+    assert_true(wn < 1e-12);
+    assert_true(wel < 1e-12);
+    assert_true(wg < 1e-6);
+    assert_true(wc < 1e-12);
+    assert_true(wc6 < 1e-5);
+    assert_true(wur < 1e-7);
+    assert_true(wratio < 0.02);
+    {
+        cr_metric mt = mk(0.5, 0.0);
+        double u[4] = {7, 7, 7, 7};
+        assert_int_equal(cr_orbit_plunge_velocity(&mt, 0.9, 3.0, cr_metric_r_plus(&mt), u), 0);
+        assert_true(u[0] == 7.0);
+    }
 }
 
 static void test_static_is_special_case(void **state)
@@ -710,6 +805,7 @@ int main(void)
         cmocka_unit_test(test_kerr_orbits),
         cmocka_unit_test(test_rn_isco),
         cmocka_unit_test(test_kn_orbits_geodesic),
+        cmocka_unit_test(test_plunge),
         cmocka_unit_test(test_static_is_special_case),
         cmocka_unit_test(test_face_on_ring),
         cmocka_unit_test(test_edge_on_ring),

@@ -671,7 +671,8 @@ static void test_csv_roundtrip(void **state)
     assert_non_null(fp);
     assert_non_null(fgets(line, sizeof line, fp));
     assert_string_equal(line,
-                        "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi\n");
+                        "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,"
+                        "bolometric\n");
     for (int i = 0; i < W * H; i++) {
         int x, y, n_hit = 0;
         unsigned r, g, b, steps;
@@ -681,7 +682,10 @@ static void test_csv_roundtrip(void **state)
         assert_int_equal(sscanf(line, "%d,%d,%u,%u,%u,%u,%lf,%lf,%lf,%31[a-z],%lf,%lf%n", &x, &y,
                                 &r, &g, &b, &steps, &z, &em, &es, name, &hr, &hp, &n_hit),
                          12);
-        assert_string_equal(line + n_hit, "\n"); /* nothing after hit_phi */
+        /* then the bolometric column: -1 except on a Keplerian disc hit */
+        assert_string_equal(line + n_hit,
+                            px[i].outcome == CR_OUT_DISC && px[i].bolo >= 0.0 ? line + n_hit
+                                                                               : ",-1\n");
         if (px[i].outcome == CR_OUT_DISC || px[i].outcome == CR_OUT_SPHERE) {
             assert_true(hr == px[i].hit_r); /* exact: %.17g round-trips */
             assert_true(hp == px[i].hit_phi);

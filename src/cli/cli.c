@@ -58,7 +58,8 @@ void cr_cli_usage(const char *prog, FILE *out)
             "                          start (frame 0) to their end (frame N-1); default 1\n"
             "  -t, --output_type SET   any of i (info.txt), c (c_<k>.png colour),\n"
             "                          r (r_<k>.png redshift), d (d_<k>.csv pixel data),\n"
-            "                          f (f_<k>.fits: redshift, hit, outcome, steps, error);\n"
+            "                          f (f_<k>.fits: redshift, hit, outcome, steps, error),\n"
+            "                          b (b_<k>.png bolometric g^4 F, Keplerian disc);\n"
             "                          v (c.mp4, plus r.mp4 with r: MP4 videos);\n"
             "                          default icr\n"
             "  -c, --config FILE       system configuration (default: config.yml if present)\n"
@@ -223,10 +224,10 @@ int cr_cli_check_render(const cr_cli *c, cr_err *err)
         return 0; /* -t is not used */
     }
     if (!c->output_type[0])
-        return cr_err_set(err, "-t: empty output type; use any of i, c, r, d, f, v");
+        return cr_err_set(err, "-t: empty output type; use any of i, c, r, d, b, f, v");
     for (p = c->output_type; *p; p++)
-        if (!strchr("icrdfv", *p))
-            return cr_err_set(err, "-t: unknown output type '%c' in '%s'; use any of i, c, r, d, f, v",
+        if (!strchr("icrdbfv", *p))
+            return cr_err_set(err, "-t: unknown output type '%c' in '%s'; use any of i, c, r, d, b, f, v",
                               *p, c->output_type);
     if (strchr(c->output_type, 'f') && !cr_fits_available())
         return cr_err_set(err, CR_FITS_MISSING);

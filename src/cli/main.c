@@ -147,7 +147,7 @@ static int cr_cancelled(void *ctx)
     return cr_interrupt_requested(&w->run->intr);
 }
 
-/* Remove the files of frame k already written, types among "crd": a frame
+/* Remove the files of frame k already written, types among "crdb": a frame
  * that fails part-way (a full disk) leaves no file. */
 static void cr_remove_frame_files(const cr_run *run, int k, const char *types)
 {
@@ -159,7 +159,7 @@ static void cr_remove_frame_files(const cr_run *run, int k, const char *types)
     }
 }
 
-/* Write frame k's file of type t (c, r or d), announced to the Ctrl-C
+/* Write frame k's file of type t (c, r, d or b), announced to the Ctrl-C
  * handling (interrupt.h). */
 static int cr_write_frame_file(cr_worker *w, char t, int k, const cr_pixel *px, int width,
                                int height, cr_err *err)
@@ -175,6 +175,8 @@ static int cr_write_frame_file(cr_worker *w, char t, int k, const cr_pixel *px, 
         rc = cr_output_color_png(dir, k, px, width, height, err);
     else if (t == 'r')
         rc = cr_output_redshift_png(dir, k, px, width, height, err);
+    else if (t == 'b')
+        rc = cr_output_bolometric_png(dir, k, px, width, height, err);
     else if (t == 'f')
         rc = cr_output_fits(dir, k, (int)run->cli.frames, &run->scene, &run->ts, px, width,
                             height, err);
@@ -253,10 +255,10 @@ static void cr_worker_idle(cr_worker *w)
 static int cr_output_frame(cr_worker *w, int k, const cr_pixel *px, int width, int height,
                            double seconds, cr_err *err)
 {
-    static const char types[] = "crdf";
+    static const char types[] = "crdbf";
     cr_run *run = w->run;
     cr_frame_stats st;
-    char written[5] = "";
+    char written[6] = "";
     int n_written = 0, i;
     cr_frame_stats_compute(px, (long long)width * height, seconds, &st);
     st.frame = k;

@@ -129,6 +129,17 @@ typedef struct cr_disc {
     double exposure; /* sr m^2 / W: linear sRGB luminance 1 for T = t_peak at g = 1 */
     double white;    /* tone-curve white point (linear) */
     cr_flux_table flux;
+    /* physical inputs (accretion.mass_msun, mdot_edd): both > 0 to derive
+       t_peak from the hole's mass (solar masses) and the accretion rate (in
+       Eddington units), 0 when t_peak is given */
+    double mass_msun, mdot_edd;
+    /* inside the ISCO (accretion.inside_isco): plunge = 1 puts matter
+       falling from the ISCO with its E_isco, L_isco (cr_orbit_plunge_velocity)
+       between the horizon and r_in, dark (zero flux); 0: nothing there */
+    int plunge;
+    double E_isco, L_isco;
+    double r_hit_in; /* derived (cr_frame_prepare): the smallest BL radius where
+                        rays meet the disc: r+ with plunging matter, else r_in */
 } cr_disc;
 
 /* A sphere defined in the Cartesian coordinates (2.2.8). Centre at BL
@@ -235,11 +246,14 @@ typedef struct cr_frame {
  * face for CR_OUT_DISC, -1 otherwise. hit_r, hit_phi: the BL radius (units
  * of M) and azimuth (radians, in [0, 2 pi)) of the point where the ray hit
  * the disc or a sphere, located inside the step as the colour is; -1 (never a
- * valid value of either) for every other outcome. 56 bytes. */
+ * valid value of either) for every other outcome. 64 bytes. */
 typedef struct cr_pixel {
     double redshift;
     double err_mean, err_std;
     double hit_r, hit_phi;
+    double bolo; /* Keplerian disc hits: the bolometric brightness g^4 F(r) /
+                    F_max (cr_bolometric; F_max the disc's peak flux), 0 on
+                    plunging matter; -1 for every other outcome or disc */
     uint32_t steps;
     int16_t object;
     uint8_t outcome;

@@ -224,6 +224,42 @@ CR_HD static inline double cr_orbit_r_mb(const cr_metric *mt, int s)
     return 0.5 * (lo + hi);
 }
 
+/* ---- plunging matter inside the ISCO ------------------------------------- */
+
+/* 4-velocity u^mu of matter falling freely in the equatorial plane from the
+ * ISCO with the ISCO orbit's constants E = -u_t and L = u_phi (cr_orbit_eval
+ * at r_isco), at BL radius r (r+ < r <= r_isco). From the
+ * geodesic equations: E and L are conserved (stationary, axisymmetric), so
+ * with the inverse of the (t, phi) block at the equator (determinant
+ * -Delta),
+ *     u^t   = (g_phph E + g_tphi L) / Delta,
+ *     u^phi = -(g_tphi E + g_tt L) / Delta,
+ * and the radial component follows from g(u, u) = -1:
+ *     g_rr (u^r)^2 = -1 + E u^t - L u^phi,
+ * taken inward (u^r <= 0) and clamped at 0, which it equals at r_isco (the
+ * circular orbit there; just inside, (u^r)^2 grows as (r_isco - r)^3).
+ * Returns 1 and fills u (future-directed: u^t > 0) for r+ < r; 0 (u
+ * untouched) at or inside the horizon or where a value is not finite. */
+CR_HD static inline int cr_orbit_plunge_velocity(const cr_metric *mt, double E, double L,
+                                                 double r, double u[4])
+{
+    cr_metric_point q;
+    double ut, uph, ur2;
+    if (!(r > cr_metric_r_plus(mt)))
+        return 0;
+    cr_metric_eval(mt, r, 0.5 * CR_PI, &q);
+    ut = (q.g_phph * E + q.g_tph * L) / q.delta;
+    uph = -(q.g_tph * E + q.g_tt * L) / q.delta;
+    ur2 = (-1.0 + E * ut - L * uph) / q.g_rr;
+    if (!cr_isfinite(ut) || !cr_isfinite(uph) || !cr_isfinite(ur2) || !(ut > 0.0))
+        return 0;
+    u[0] = ut;
+    u[1] = ur2 > 0.0 ? -sqrt(ur2) : 0.0;
+    u[2] = 0.0;
+    u[3] = uph;
+    return 1;
+}
+
 /* ---- quadrature ---------------------------------------------------------- */
 
 /* Node i (0..7) and weight of the 8-point Gauss-Legendre rule on [-1, 1]

@@ -68,6 +68,7 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
         rm = f->sky_boundary;
     f->r_max = at_inf ? INFINITY : rm;
     f->w_sky = (f->sky.rgb && !(f->sky_boundary > 0.0)) ? 0.0 : 1.0 / rm;
+    f->disc.r_hit_in = f->disc.plunge ? cr_metric_r_plus(&f->metric) : f->disc.r_in;
     cr_camera_prepare(f);
 }
 
@@ -80,54 +81,94 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
 
 /* Derive the Keplerian disc's per-frame data (cr_disc "keplerian" fields)
  * for a frame in units of M (M = 1) whose disc has model, sense (the orbit
- * sense s of orbit.h), t_peak, r_in (the requested inner radius) and r_out
- * set. Sets r_isco, the effective inner edge r_in = max(r_in, r_isco), the
- * flux table with zero torque there, t_scale (T(r_peak) = t_peak), exposure
- * (linear sRGB luminance of a t_peak blackbody at g = 1 is 1) and white.
+ * sense s of orbit.h), plunge, r_in (the requested inner radius), r_out and
+ * either t_peak or the physical inputs mass_msun, mdot_edd (both > 0) set.
+ * Sets r_isco and the ISCO orbit's E_isco, L_isco, the effective inner edge
+ * r_in = max(r_in, r_isco), the flux table with zero torque there, t_scale
+ * and t_peak (T(r_peak) = t_peak), exposure (linear sRGB luminance of a
+ * t_peak blackbody at g = 1 is 1) and white.
+ * Temperature scale: given t_peak, t_scale = t_peak / F_max^(1/4); given the
+ * physical inputs, sigma T^4 = (F / Mdot) Mdot c^6 / (G M)^2 with
+ * M = mass_msun M_sun and Mdot = mdot_edd Mdot_Edd, Mdot_Edd = L_Edd /
+ * (eta c^2), L_Edd = 4 pi G M m_p c / sigma_T and the radiative efficiency
+ * eta = 1 - E(r_in) of the zero-torque edge (1 - E_isco for a disc down to
+ * the ISCO), and then t_peak = t_scale F_max^(1/4) (orbit.h).
  * Returns 0, or -1 when there is no table (r_isco not finite, r_isco >= r_out,
  * or the ISCO within CR_FLUX_MIN_GAP of the photon orbit: |a| above about
  * 0.99999 M). Host code (thousands of metric evaluations). */
 CR_HD static inline int cr_disc_keplerian_prepare(cr_disc *d, const cr_metric *mt)
 {
     double xyz[3], rgb[3], lum, r0;
+    cr_orbit o;
     d->r_isco = cr_orbit_r_isco(mt, d->sense);
-    if (!cr_isfinite(d->r_isco) || !(d->r_isco < d->r_out))
+    if (!cr_isfinite(d->r_isco) || !(d->r_isco < d->r_out) ||
+        !cr_orbit_eval(mt, d->sense, d->r_isco, &o))
         return -1;
+    d->E_isco = o.E;
+    d->L_isco = o.L;
     r0 = d->r_in > d->r_isco ? d->r_in : d->r_isco;
-    if (!cr_flux_table_fill(&d->flux, mt, d->sense, r0, d->r_out))
+    if (!cr_flux_table_fill(&d->flux, mt, d->sense, r0, d->r_out) ||
+        !cr_orbit_eval(mt, d->sense, r0, &o))
         return -1;
     d->r_in = r0;
-    d->t_scale = cr_flux_tscale_peak(&d->flux, d->t_peak);
+    if (d->mass_msun > 0.0 && d->mdot_edd > 0.0) {
+        double m_kg = d->mass_msun * CR_SI_M_SUN;
+        double mdot = d->mdot_edd * cr_flux_mdot_edd_si(m_kg, 1.0 - o.E);
+        d->t_scale = cr_flux_tscale_si(m_kg, mdot);
+        d->t_peak = d->t_scale * sqrt(sqrt(d->flux.F_max));
+    } else {
+        d->t_scale = cr_flux_tscale_peak(&d->flux, d->t_peak);
+    }
     cr_bb_xyz(d->t_peak, 1.0, xyz);
     cr_xyz_to_linear_srgb(xyz, rgb);
     lum = cr_srgb_luminance(rgb);
     d->exposure = lum > 0.0 ? 1.0 / lum : 1.0;
     d->white = CR_KEPLER_WHITE;
-    return cr_isfinite(d->t_scale) && cr_isfinite(d->exposure) ? 0 : -1;
+    return cr_isfinite(d->t_scale) && cr_isfinite(d->t_peak) && cr_isfinite(d->exposure) ? 0
+                                                                                        : -1;
+}
+
+/* The 4-velocity of the Keplerian disc's matter at BL radius r (theta =
+ * pi/2): the circular orbit of the disc's sense at r >= r_isco, the matter
+ * plunging from the ISCO (cr_orbit_plunge_velocity) inside it. Returns 0
+ * where neither exists (no circular orbit; at or inside the horizon). */
+CR_HD static inline int cr_disc_keplerian_velocity(const cr_disc *d, const cr_metric *mt,
+                                                   double r, double u[4])
+{
+    cr_orbit o;
+    if (r < d->r_isco)
+        return cr_orbit_plunge_velocity(mt, d->E_isco, d->L_isco, r, u);
+    if (!cr_orbit_eval(mt, d->sense, r, &o))
+        return 0;
+    cr_orbit_velocity(&o, u);
+    return 1;
 }
 
 /* The frequency ratio g = nu_obs / nu_em (cr_frame_shift) of a photon with
  * covariant momentum p (cr_ray_momentum) emitted by the Keplerian disc's
- * matter at BL radius r (theta = pi/2) and received by the frame's observer.
- * -1 where no circular orbit exists at r. */
+ * matter (cr_disc_keplerian_velocity) at BL radius r and received by the
+ * frame's observer. -1 where that matter does not exist. */
 CR_HD static inline double cr_disc_keplerian_g(const cr_frame *f, const double p_obs[4],
                                                const double p[4], double r)
 {
     double u_em[4];
-    cr_orbit o;
-    if (!cr_orbit_eval(&f->metric, f->disc.sense, r, &o))
+    if (!cr_disc_keplerian_velocity(&f->disc, &f->metric, r, u_em))
         return -1.0;
-    cr_orbit_velocity(&o, u_em);
     return cr_frame_shift(f, p_obs, p, u_em);
 }
 
 /* Colour of the Keplerian disc at radius r seen with ratio g: the blackbody
- * of T(r) = t_scale F(r)^(1/4) through cr_bb_rgb8. */
-CR_HD static inline cr_rgb cr_disc_keplerian_color(const cr_disc *d, double r, double g)
+ * of T(r) = t_scale F(r)^(1/4) through cr_bb_rgb8 (black where F = 0: the
+ * zero-torque edge, and plunging matter inside it). *bolo receives the
+ * bolometric brightness g^4 F(r) / F_max (cr_bolometric; 0 where g < 0). */
+CR_HD static inline cr_rgb cr_disc_keplerian_color(const cr_disc *d, double r, double g,
+                                                   double *bolo)
 {
     double F = cr_flux_table_F(&d->flux, r);
     double T = F > 0.0 ? d->t_scale * sqrt(sqrt(F)) : 0.0;
-    return cr_bb_rgb8(T, g > 0.0 ? g : 0.0, d->exposure, d->white);
+    g = g > 0.0 ? g : 0.0;
+    *bolo = cr_bolometric(g, F / d->flux.F_max);
+    return cr_bb_rgb8(T, g, d->exposure, d->white);
 }
 
 /* Express every length of a frame in units of M (DESIGN "Conventions"), so
@@ -787,6 +828,7 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
 
     px.redshift = -1.0;
     px.hit_r = px.hit_phi = -1.0;
+    px.bolo = -1.0;
     px.object = -1;
     px.outcome = CR_OUT_NONE;
     px.color = f->error_color;
@@ -853,7 +895,8 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
                 double s = cr_event_locate(f, ray, CR_EV_DISC, v0, 1.0, v1, ys);
                 double rr, th, ph;
                 cr_ray_position(ray, ys, &rr, &th, &ph);
-                if (rr >= f->disc.r_in && rr <= f->disc.r_out && cr_ray_outside_stop(f, ray, rr)) {
+                if (rr >= f->disc.r_hit_in && rr <= f->disc.r_out &&
+                    cr_ray_outside_stop(f, ray, rr)) {
                     hit_disc = 1;
                     s_disc = s;
                 }
@@ -900,7 +943,7 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
             cr_ray_momentum(ray, ys, p);
             if (f->disc.model == CR_DISC_KEPLERIAN) {
                 px.redshift = cr_disc_keplerian_g(f, ray->p_obs, p, rr);
-                px.color = cr_disc_keplerian_color(&f->disc, rr, px.redshift);
+                px.color = cr_disc_keplerian_color(&f->disc, rr, px.redshift, &px.bolo);
             } else {
                 px.color = cr_disc_color(&f->disc, rr, ph, side);
                 px.redshift = cr_redshift_static(f, ray->p_obs, p, rr, 0.5 * CR_PI);

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "../core/orbit.h"
+#include "../core/trace.h"
 #include "atomic.h"
 #include "fsutil.h"
 
@@ -93,11 +93,13 @@ static void cr_put_radius_m(FILE *fp, const char *label, const double x[2], cons
 
 /* The Keplerian disc (issue 12): model, orbit sense, the ISCO of that sense
  * and the effective inner edge max(inner radius, r_isco), both at the first
- * and the last frame (as the frame does: a/M, Q/M), and the peak
- * temperature. */
+ * and the last frame (as the frame does: a/M, Q/M), what lies inside the
+ * ISCO, and the peak temperature: as given, or derived from the mass and
+ * accretion rate (with the radiative efficiency) by the frame's own
+ * cr_disc_keplerian_prepare. */
 static void cr_info_keplerian(FILE *fp, const cr_scene *s)
 {
-    double m[2] = {s->m.a, s->m.b}, isco[2], rin[2];
+    double m[2] = {s->m.a, s->m.b}, isco[2], rin[2], tpk[2] = {NAN, NAN}, eta[2] = {NAN, NAN};
     cr_anim rin_s[2] = {{s->disc_r_in.a, s->disc_r_in.a}, {s->disc_r_in.b, s->disc_r_in.b}};
     int sense = 1;
     for (int i = 0; i < 2; i++) {
@@ -110,6 +112,20 @@ static void cr_info_keplerian(FILE *fp, const cr_scene *s)
         rin[i] = isco[i];
         if (s->disc_has_r_in && rin_s[i].a / m[i] > isco[i])
             rin[i] = rin_s[i].a / m[i];
+        if (s->disc_mass_msun > 0.0) {
+            cr_disc d;
+            cr_orbit o;
+            memset(&d, 0, sizeof d);
+            d.sense = sense;
+            d.r_in = rin[i];
+            d.r_out = (i ? s->disc_r_out.b : s->disc_r_out.a) / m[i];
+            d.mass_msun = s->disc_mass_msun;
+            d.mdot_edd = s->disc_mdot_edd;
+            if (cr_disc_keplerian_prepare(&d, &mt) == 0 && cr_orbit_eval(&mt, sense, rin[i], &o)) {
+                tpk[i] = d.t_peak;
+                eta[i] = 1.0 - o.E;
+            }
+        }
     }
     fprintf(fp, "  %-22s keplerian\n", "model");
     fprintf(fp, "  %-22s %s (%s)\n", "orbit sense", s->disc_retrograde ? "retrograde" : "prograde",
@@ -121,7 +137,21 @@ static void cr_info_keplerian(FILE *fp, const cr_scene *s)
     cr_put_anim(fp, "outer radius", s->disc_r_out, "");
     cr_put_radius_m(fp, "r_isco", isco, m);
     cr_put_radius_m(fp, "effective inner radius", rin, m);
-    fprintf(fp, "  %-22s %.10g K\n", "peak temperature", s->disc_temperature);
+    fprintf(fp, "  %-22s %s\n", "inside the ISCO",
+            s->disc_plunge ? "plunging (falling with the ISCO's E and L; dark)" : "nothing");
+    if (!(s->disc_mass_msun > 0.0)) {
+        fprintf(fp, "  %-22s %.10g K\n", "peak temperature", s->disc_temperature);
+        return;
+    }
+    fprintf(fp, "  %-22s %.10g solar masses\n", "mass", s->disc_mass_msun);
+    fprintf(fp, "  %-22s %.10g Eddington\n", "accretion rate", s->disc_mdot_edd);
+    fprintf(fp, "  %-22s %.6g", "efficiency 1 - E(r_in)", eta[0]);
+    if (eta[1] != eta[0])
+        fprintf(fp, " -> %.6g", eta[1]);
+    fprintf(fp, "\n  %-22s %.6g", "peak temperature", tpk[0]);
+    if (tpk[1] != tpk[0])
+        fprintf(fp, " -> %.6g", tpk[1]);
+    fprintf(fp, " K (from the mass and accretion rate)\n");
 }
 
 static void cr_info_scene(FILE *fp, const cr_scene *s)

@@ -58,6 +58,17 @@ cr_rgb cr_redshift_color(const cr_pixel *p)
     return c;
 }
 
+cr_rgb cr_bolometric_color(const cr_pixel *p)
+{
+    cr_rgb c = {0, 0, 0};
+    double v;
+    if (p->outcome != CR_OUT_DISC || !(p->bolo > 0.0))
+        return c;
+    v = 255.0 * (log10(p->bolo) + 3.0) / 4.0;
+    c.r = c.g = c.b = cr_to_byte(v);
+    return c;
+}
+
 static int cr_frame_path(char *out, size_t n, const char *dir, const char *prefix, int k,
                          const char *ext, cr_err *err)
 {
@@ -75,9 +86,10 @@ static int cr_check_frame(const cr_pixel *px, int w, int h, cr_err *err)
     return 0;
 }
 
-/* Shared by the c_ and r_ PNGs: colour each pixel, write the file. */
+/* Shared by the c_, r_ and b_ PNGs: colour each pixel by colour(pixel)
+ * (NULL: the pixel's own colour), write the file. */
 static int cr_output_png(const char *dir, const char *prefix, int k, const cr_pixel *px, int w,
-                         int h, int redshift, cr_err *err)
+                         int h, cr_rgb (*colour)(const cr_pixel *), cr_err *err)
 {
     char path[4096];
     size_t n;
@@ -92,7 +104,7 @@ static int cr_output_png(const char *dir, const char *prefix, int k, const cr_pi
     if (!rgb)
         return cr_err_set(err, "writing %s: out of memory", path);
     for (size_t i = 0; i < n; i++) {
-        cr_rgb c = redshift ? cr_redshift_color(&px[i]) : px[i].color;
+        cr_rgb c = colour ? colour(&px[i]) : px[i].color;
         rgb[3 * i] = c.r;
         rgb[3 * i + 1] = c.g;
         rgb[3 * i + 2] = c.b;
@@ -104,13 +116,19 @@ static int cr_output_png(const char *dir, const char *prefix, int k, const cr_pi
 
 int cr_output_color_png(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err)
 {
-    return cr_output_png(dir, "c", k, px, w, h, 0, err);
+    return cr_output_png(dir, "c", k, px, w, h, NULL, err);
 }
 
 int cr_output_redshift_png(const char *dir, int k, const cr_pixel *px, int w, int h,
                            cr_err *err)
 {
-    return cr_output_png(dir, "r", k, px, w, h, 1, err);
+    return cr_output_png(dir, "r", k, px, w, h, cr_redshift_color, err);
+}
+
+int cr_output_bolometric_png(const char *dir, int k, const cr_pixel *px, int w, int h,
+                             cr_err *err)
+{
+    return cr_output_png(dir, "b", k, px, w, h, cr_bolometric_color, err);
 }
 
 /* Decimal digits of v at p; returns the end. */
@@ -142,7 +160,7 @@ static char *cr_put_double(char *p, double v)
     return p + snprintf(p, 32, "%.17g", v);
 }
 
-static const char *const cr_csv_header = "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi\n";
+static const char *const cr_csv_header = "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric\n";
 
 int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, int h,
                          cr_err *err)
@@ -187,6 +205,9 @@ int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, 
             p = cr_put_double(p, hit ? q->hit_r : -1.0);
             *p++ = ',';
             p = cr_put_double(p, hit ? q->hit_phi : -1.0);
+            /* g^4 F / F_max on a Keplerian disc hit, -1 otherwise */
+            *p++ = ',';
+            p = cr_put_double(p, q->outcome == CR_OUT_DISC && q->bolo >= 0.0 ? q->bolo : -1.0);
             *p++ = '\n';
             fwrite(line, 1, (size_t)(p - line), fp);
         }

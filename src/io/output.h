@@ -18,14 +18,25 @@
  * limit). */
 cr_rgb cr_redshift_color(const cr_pixel *p);
 
+/* Bolometric map colour of one pixel: grey level 255 (log10(v) + 3) / 4,
+ * clamped to 0..255, of v = g^4 F / F_max (cr_pixel.bolo) on a Keplerian
+ * disc hit: v = 10 is white, 1e-3 and below (and plunging matter, v = 0)
+ * black; black for every other pixel. */
+cr_rgb cr_bolometric_color(const cr_pixel *p);
+
 /* c_<k>.png, r_<k>.png, d_<k>.csv in dir. */
 int cr_output_color_png(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err);
 int cr_output_redshift_png(const char *dir, int k, const cr_pixel *px, int w, int h,
                            cr_err *err);
+/* b_<k>.png: the bolometric map (cr_bolometric_color). */
+int cr_output_bolometric_png(const char *dir, int k, const cr_pixel *px, int w, int h,
+                             cr_err *err);
 /* CSV columns (6.11), one row per pixel, header line first:
- * x,y,r,g,b,steps,redshift,err_mean,err_std,outcome
+ * x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric
  * (x, y pixel coordinates from the top-left; redshift -1 where undefined;
- * outcome as the word horizon/disc/sphere/sky/error/limit). */
+ * outcome as the word horizon/disc/sphere/sky/error/limit; hit_r, hit_phi
+ * the disc or sphere hit point, -1 otherwise; bolometric g^4 F / F_max on a
+ * Keplerian disc hit, -1 otherwise). */
 int cr_output_csv(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err);
 /* The same CSV text written to an open stream, then flushed and checked
  * (cr_stream_check); name is used in the error message. */

@@ -364,18 +364,39 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
     return 0;
 }
 
+/* The optional number of field f of section path into *out when present:
+ * finite and > 0, else an error naming the key that says what it is. */
+static int positive_number(cr_yaml *y, const cr_yaml_field *f, const char *path,
+                           const char *what, const char *unit, double *out, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    if (!f->value)
+        return 0;
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    if (cr_yaml_number(y, f->value, sub, out, err))
+        return -1;
+    if (!(*out > 0.0) || !isfinite(*out))
+        return cr_yaml_fail(y, f->value, sub, err, "%s must be positive (%s), got %g", what,
+                            unit, *out);
+    return 0;
+}
+
 /* accretion: {model: chessboard (default) | keplerian, ...}. The chessboard
  * takes color1, color2, resolution, yaw and radius [inner, outer] (the
  * paper's keys); the Keplerian disc takes radius [inner, outer] or [outer]
  * (or a plain outer radius; the inner radius then defaults to the ISCO),
- * retrograde (default false) and temperature (the peak temperature in K,
- * default 1e4). Keys of the other model are errors. */
+ * retrograde (default false), inside_isco (nothing, the default, or
+ * plunging), and either temperature (the peak temperature in K, default 1e4)
+ * or mass_msun and mdot_edd (the hole's mass in solar masses and the
+ * accretion rate in Eddington units). Keys of the other model are errors. */
 static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
                            cr_err *err)
 {
-    enum { COLOR1, COLOR2, RESOLUTION, YAW, RADIUS, MODEL, RETRO, TEMP, N };
-    cr_yaml_field f[N] = {OPT("color1"), OPT("color2"), OPT("resolution"), OPT("yaw"),
-                          OPT("radius"), OPT("model"),  OPT("retrograde"), OPT("temperature")};
+    enum { COLOR1, COLOR2, RESOLUTION, YAW, RADIUS, MODEL, RETRO, TEMP, INSIDE, MASS, MDOT, N };
+    cr_yaml_field f[N] = {OPT("color1"),      OPT("color2"),    OPT("resolution"),
+                          OPT("yaw"),         OPT("radius"),    OPT("model"),
+                          OPT("retrograde"),  OPT("temperature"), OPT("inside_isco"),
+                          OPT("mass_msun"),   OPT("mdot_edd")};
     const char *p = "accretion";
     yaml_node_t *it[2];
     char sub[CR_YAML_PATH], sub2[CR_YAML_PATH];
@@ -405,6 +426,8 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
     s->disc_retrograde = 0;
     s->disc_temperature = 1e4;
     s->disc_has_r_in = 1;
+    s->disc_plunge = 0;
+    s->disc_mass_msun = s->disc_mdot_edd = 0.0;
     if (kep) {
         if (refuse_keys(y, f, COLOR1, YAW, p,
                         "applies only to model: chessboard (a keplerian disc is coloured by its "
@@ -418,14 +441,42 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
             if (cr_yaml_bool(y, f[RETRO].value, sub, &s->disc_retrograde, err))
                 return -1;
         }
-        if (f[TEMP].value) {
-            cr_yaml_path_key(sub, sizeof sub, p, "temperature");
-            if (cr_yaml_number(y, f[TEMP].value, sub, &s->disc_temperature, err))
+        if (f[TEMP].value && (f[MASS].value || f[MDOT].value)) {
+            int i = f[MASS].value ? MASS : MDOT;
+            cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+            return cr_yaml_fail(y, f[i].key_node, sub, err,
+                                "give either accretion.temperature (the peak temperature) or "
+                                "accretion.mass_msun with accretion.mdot_edd (the physical "
+                                "inputs), not both");
+        }
+        if (!f[MASS].value != !f[MDOT].value) {
+            int i = f[MASS].value ? MASS : MDOT;
+            cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+            return cr_yaml_fail(y, f[i].key_node, sub, err,
+                                "accretion.mass_msun and accretion.mdot_edd go together (the "
+                                "hole's mass in solar masses and the accretion rate in "
+                                "Eddington units); give both");
+        }
+        if (positive_number(y, &f[TEMP], p, "the peak temperature", "kelvin",
+                            &s->disc_temperature, err) ||
+            positive_number(y, &f[MASS], p, "the hole's mass", "solar masses",
+                            &s->disc_mass_msun, err) ||
+            positive_number(y, &f[MDOT], p, "the accretion rate", "Eddington units",
+                            &s->disc_mdot_edd, err))
+            return -1;
+        if (f[INSIDE].value) {
+            const char *v;
+            char got[96];
+            cr_yaml_path_key(sub, sizeof sub, p, "inside_isco");
+            if (cr_yaml_string(y, f[INSIDE].value, sub, &v, err))
                 return -1;
-            if (!(s->disc_temperature > 0.0))
-                return cr_yaml_fail(y, f[TEMP].value, sub, err,
-                                    "the peak temperature must be positive (kelvin), got %g",
-                                    s->disc_temperature);
+            if (strcmp(v, "plunging") == 0)
+                s->disc_plunge = 1;
+            else if (strcmp(v, "nothing") != 0) {
+                cr_yaml_describe(f[INSIDE].value, got, sizeof got);
+                return cr_yaml_fail(y, f[INSIDE].value, sub, err,
+                                    "unknown value %s (expected one of: nothing, plunging)", got);
+            }
         }
         cr_yaml_path_key(sub, sizeof sub, p, "radius");
         if (f[RADIUS].value->type != YAML_SEQUENCE_NODE) {
@@ -458,7 +509,7 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
             return -1;
         goto radii;
     }
-    if (refuse_keys(y, f, TEMP, RETRO, p, "applies only to model: keplerian", err))
+    if (refuse_keys(y, f, MDOT, RETRO, p, "applies only to model: keplerian", err))
         return -1;
     if (!f[COLOR1].value)
         return cr_yaml_fail_at(y, where, p, err, "missing required key 'color1'");
@@ -1018,6 +1069,9 @@ static int frame_keplerian(const cr_scene *s, int k, int n, double m, cr_frame *
         return 0;
     d->sense = cr_orbit_sense(&f->metric, !s->disc_retrograde);
     d->t_peak = s->disc_temperature;
+    d->mass_msun = s->disc_mass_msun;
+    d->mdot_edd = s->disc_mdot_edd;
+    d->plunge = s->disc_plunge;
     if (s->disc_has_r_in && !(d->r_in > rp))
         return frame_fail(err, s, k, n,
                           "accretion.radius: the inner radius %g is at or inside the event "
@@ -1031,6 +1085,12 @@ static int frame_keplerian(const cr_scene *s, int k, int n, double m, cr_frame *
                           sense, risco * m, d->r_out * m);
     if (!s->disc_has_r_in)
         d->r_in = risco;
+    if (d->plunge && d->r_in > risco)
+        return frame_fail(err, s, k, n,
+                          "accretion.inside_isco = plunging: the matter falls from the %s ISCO "
+                          "r_isco = %g, but the inner radius %g lies outside it; leave the inner "
+                          "radius out (radius: [outer]) or put it at or inside the ISCO",
+                          sense, risco * m, d->r_in * m);
     if (cr_disc_keplerian_prepare(d, &f->metric) != 0)
         return frame_fail(err, s, k, n,
                           "accretion: metric.a = %g, metric.q = %g are too close to an extremal "

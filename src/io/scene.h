@@ -69,6 +69,9 @@ typedef struct cr_scene {
     int disc_retrograde;     /* keplerian: orbits against the hole's spin */
     double disc_temperature; /* keplerian: peak temperature, K, > 0 (default 1e4) */
     int disc_has_r_in;       /* keplerian: 0 when the inner radius is omitted (the ISCO) */
+    int disc_plunge;         /* keplerian: inside_isco: plunging (1) or nothing (0) */
+    double disc_mass_msun;   /* keplerian: hole's mass in solar masses, 0 = unset */
+    double disc_mdot_edd;    /* keplerian: accretion rate in Eddington units, 0 = unset */
 
     int has_sky;
     char *sky_image;      /* path as resolved relative to the scene file's folder */
