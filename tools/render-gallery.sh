@@ -69,4 +69,39 @@ pick listing-7.1.6-sphere-orbit c_9.png listing-7.1.6-sphere-orbit-phi90.png
 pick listing-7.1.6-sphere-orbit c_18.png listing-7.1.6-sphere-orbit-phi180.png
 render scenes/listing-7.3.1-reissner-nordstrom-sphere.yml 36 c
 pick listing-7.3.1-reissner-nordstrom-sphere c_18.png listing-7.3.1-reissner-nordstrom-sphere.png
+
+# Moving observers and projections (issue 13), each at its own size, into
+# docs/gallery/ (shown in the README).
+observer() { # scene frames types width height, then pairs "source-file target-name"
+    name=$(basename "$1" .yml)
+    W=$4 H=$5 render "$1" "$2" "$3"
+    shift 5
+    mkdir -p docs/gallery
+    while [ $# -ge 2 ]; do
+        cp "out/gallery/$name/$1" "docs/gallery/$2"
+        shift 2
+    done
+}
+observer scenes/observer-static-panorama.yml 1 c 640 320 c_0.png observer-static-panorama.png
+observer scenes/observer-zamo-ergosphere.yml 1 c 360 360 c_0.png observer-zamo-ergosphere.png
+observer scenes/observer-orbit.yml 60 c 320 180 c_0.png observer-orbit-0.png \
+    c_20.png observer-orbit-20.png c_57.png observer-orbit-57.png
+observer scenes/observer-infall.yml 10 cr 320 320 c_0.png observer-infall-0.png \
+    c_9.png observer-infall-9.png r_9.png observer-infall-9-r.png
+observer scenes/observer-velocity.yml 1 c 480 270 c_0.png observer-velocity.png
+W=320
+H=240
 echo "gallery: $(du -ch "$dst"/*.png | tail -1)"
+
+# The Keplerian discs (issue 12) at 640x360 into docs/gallery/ (shown in the
+# README): the colour image and the bolometric map b_0.png of each.
+W=640
+H=360
+dst=docs/gallery
+mkdir -p "$dst"
+for s in keplerian-interstellar keplerian-face-on keplerian-kerr-newman; do
+    render scenes/$s.yml 1 cb
+    pick $s c_0.png $s.png
+    pick $s b_0.png $s-b.png
+done
+echo "disc gallery: $(du -ch "$dst"/*.png | tail -1)"

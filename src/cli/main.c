@@ -37,6 +37,7 @@
 #include "cli.h"
 #include "crash.h"
 #include "interrupt.h"
+#include "mpi.h"
 #include "resume.h"
 
 #define CR_EXIT_OK 0
@@ -79,6 +80,17 @@ typedef struct cr_run {
     cr_resume resume; /* --resume: the frames kept from the earlier run */
     int n_kept;       /* how many */
     char frame_types[16]; /* the per-frame files written: -t, plus c for v */
+    /* MPI (mpi.h; curray_mpi): this rank and the number of ranks (0 of 1
+     * without MPI); a one-frame run spread by rows: its frame, the pixels
+     * gathered on rank 0, the next block of rows and the rows finished */
+    int mpi_rank, mpi_size;
+    int mpi_served;   /* rank 0 served every other rank to the end */
+    double gather_s, gather_bytes;
+    cr_frame rows_frame;
+    cr_sphere *rows_spheres;
+    cr_pixel *rows_px;
+    int chunk_rows;
+    atomic_int next_chunk, rows_done;
     cr_info infotxt; /* info.txt: begun before the first frame, ended after the last */
     cr_trace_settings ts;
     char backend_name[64];
@@ -382,6 +394,17 @@ done:
     return rc;
 }
 
+/* Record the run's first failure (later ones are consequences). */
+static void cr_fail(cr_run *run, const cr_err *err)
+{
+    pthread_mutex_lock(&run->lock);
+    if (!run->failed) {
+        run->failed = 1;
+        run->fail_err = *err;
+    }
+    pthread_mutex_unlock(&run->lock);
+}
+
 static void *cr_worker_main(void *arg)
 {
     cr_worker *w = arg;
@@ -409,12 +432,7 @@ static void *cr_worker_main(void *arg)
     free(spheres);
     return NULL;
 fail:
-    pthread_mutex_lock(&run->lock);
-    if (!run->failed) {
-        run->failed = 1;
-        run->fail_err = err;
-    }
-    pthread_mutex_unlock(&run->lock);
+    cr_fail(run, &err);
     free(px);
     free(spheres);
     return NULL;
@@ -702,6 +720,219 @@ static int cr_prepare_output(cr_run *run, cr_err *err)
     return 0;
 }
 
+/* --- MPI (mpi.h) ------------------------------------------------------------
+ * Rank 0 renders in threads (its workers) while its main thread serves the
+ * other ranks; a run of several frames hands out whole frames from the same
+ * stack as its own workers (cr_next_frame), a one-frame run blocks of rows. */
+
+/* The next block of rows of a one-frame MPI run: 0, or -1 when none is left
+ * or the run stops. About 16 blocks per rank, so that the slow rows near the
+ * hole even out. */
+static int cr_next_rows(cr_run *run, int *row0, int *rows)
+{
+    int c = atomic_fetch_add(&run->next_chunk, 1), stop;
+    pthread_mutex_lock(&run->lock);
+    stop = run->failed;
+    pthread_mutex_unlock(&run->lock);
+    *row0 = c * run->chunk_rows;
+    if (stop || cr_interrupt_requested(&run->intr) || *row0 >= run->cli.height ||
+        cr_frame_kept(run, 0))
+        return -1;
+    *rows = *row0 + run->chunk_rows <= run->cli.height ? run->chunk_rows
+                                                        : (int)run->cli.height - *row0;
+    return 0;
+}
+
+static int cr_mpi_next(void *ctx, int *k, int *row0, int *rows)
+{
+    cr_run *run = ctx;
+    *k = 0;
+    if (run->cli.frames == 1)
+        return cr_next_rows(run, row0, rows);
+    *k = cr_next_frame(run);
+    *row0 = 0;
+    *rows = (int)run->cli.height;
+    return *k < 0 ? -1 : 0;
+}
+
+/* Another rank's pixels: a whole frame is written at once (by the writer
+ * slot after rank 0's workers), a block of rows goes into frame 0. */
+static int cr_mpi_deliver(void *ctx, int rank, int k, int row0, int rows, const cr_pixel *px,
+                          double seconds, cr_err *err)
+{
+    cr_run *run = ctx;
+    size_t w = (size_t)run->cli.width;
+    (void)rank;
+    if (run->cli.frames == 1) {
+        memcpy(run->rows_px + (size_t)row0 * w, px, (size_t)rows * w * sizeof *px);
+        atomic_fetch_add(&run->rows_done, rows);
+        return 0;
+    }
+    if (cr_output_frame(&run->workers[run->n_workers], k, px, (int)run->cli.width,
+                        (int)run->cli.height, seconds, err)) {
+        cr_fail(run, err);
+        return -1;
+    }
+    return 0;
+}
+
+static void cr_mpi_failed(void *ctx, int rank, const char *msg)
+{
+    cr_err e;
+    cr_err_set(&e, "MPI rank %d: %s", rank, msg);
+    cr_fail(ctx, &e);
+}
+
+static int cr_mpi_stop(void *ctx)
+{
+    return cr_interrupt_requested(&((cr_run *)ctx)->intr);
+}
+
+/* Rank 0's worker in a one-frame run: blocks of rows into rows_px. */
+static void *cr_rows_main(void *arg)
+{
+    cr_worker *w = arg;
+    cr_run *run = w->run;
+    size_t width = (size_t)run->cli.width;
+    int row0, rows;
+    cr_err err;
+    while (cr_next_rows(run, &row0, &rows) == 0) {
+        if (cr_cpu_render_rows(&run->rows_frame, row0, rows, run->threads,
+                               run->rows_px + (size_t)row0 * width, NULL, NULL, &run->intr.count,
+                               &err)) {
+            cr_fail(run, &err);
+            break;
+        }
+        atomic_fetch_add(&run->rows_done, rows);
+    }
+    return NULL;
+}
+
+/* Rank 0 of an MPI run: its workers in threads, the other ranks served from
+ * this thread, then (one frame) the gathered frame written. */
+static void cr_mpi_frames(cr_run *run)
+{
+    cr_mpi_ops ops = {run, (int)run->cli.width, cr_mpi_next, cr_mpi_deliver, cr_mpi_failed,
+                      cr_mpi_stop};
+    cr_worker *writer = &run->workers[run->n_workers];
+    size_t npx = (size_t)run->cli.width * (size_t)run->cli.height;
+    void *(*local)(void *) = run->cli.frames > 1 ? cr_worker_main : cr_rows_main;
+    int k, started = 0, one = run->cli.frames == 1 && !cr_frame_kept(run, 0);
+    double t0 = cr_now();
+    cr_err err;
+    writer->run = run;
+    writer->slot = run->n_workers;
+    writer->device = -1;
+    atomic_init(&run->next_chunk, 0);
+    atomic_init(&run->rows_done, 0);
+    if (one) {
+        run->chunk_rows = (int)(run->cli.height / (16L * run->mpi_size));
+        if (run->chunk_rows < 1)
+            run->chunk_rows = 1;
+        run->rows_px = malloc(npx * sizeof *run->rows_px);
+        run->rows_spheres = malloc(sizeof *run->rows_spheres * (size_t)(run->scene.n_spheres + 1));
+        if (!run->rows_px || !run->rows_spheres) {
+            cr_err_set(&err, "out of memory for a %ldx%ld frame", run->cli.width,
+                       run->cli.height);
+            cr_fail(run, &err);
+        } else if (cr_scene_frame(&run->scene, 0, 1, (int)run->cli.width, (int)run->cli.height,
+                                  &run->ts, &run->rows_frame, run->rows_spheres, &err)) {
+            cr_fail(run, &err);
+        }
+    }
+    for (k = 0; k < run->n_workers; k++)
+        if (pthread_create(&run->workers[k].tid, NULL, local, &run->workers[k]) == 0)
+            started++;
+        else
+            break;
+    if (started == 0) {
+        cr_err_set(&err, "cannot start a worker thread");
+        cr_fail(run, &err);
+    }
+    run->mpi_served = cr_mpi_dispatch(&ops, run->mpi_size, &run->gather_s,
+                                      &run->gather_bytes) == 0;
+    for (k = 0; k < started; k++)
+        pthread_join(run->workers[k].tid, NULL);
+    cr_log_detail(&run->log, "MPI: %d ranks; rank 0 received %.1f MiB of pixels in %.3f s",
+                  run->mpi_size, run->gather_bytes / (1 << 20), run->gather_s);
+    if (one && atomic_load(&run->rows_done) == run->cli.height && !run->failed &&
+        !cr_interrupt_requested(&run->intr) &&
+        cr_output_frame(&run->workers[0], 0, run->rows_px, (int)run->cli.width,
+                        (int)run->cli.height, cr_now() - t0, &err))
+        cr_fail(run, &err);
+    free(run->rows_px);
+    free(run->rows_spheres);
+    run->rows_px = NULL;
+    run->rows_spheres = NULL;
+}
+
+/* A rank > 0: trace rows [row0, row0 + rows) of frame k into px. */
+static int cr_mpi_render(void *ctx, int k, int row0, int rows, cr_pixel *px, double *seconds,
+                         cr_err *err)
+{
+    cr_run *run = ctx;
+    cr_frame f;
+    double t0;
+    int rc = -1;
+    cr_sphere *spheres = malloc(sizeof *spheres * (size_t)(run->scene.n_spheres + 1));
+    if (!spheres)
+        return cr_err_set(err, "out of memory");
+    if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                       (int)run->cli.height, &run->ts, &f, spheres, err) == 0) {
+        t0 = cr_now();
+        rc = cr_cpu_render_rows(&f, row0, rows, run->threads, px, NULL, NULL, NULL, err);
+        *seconds = cr_now() - t0;
+    }
+    free(spheres);
+    return rc;
+}
+
+/* A rank > 0's whole run: trace what rank 0 hands out. */
+static int cr_mpi_rank_main(cr_run *run)
+{
+    cr_err err;
+    if (cr_mpi_serve((int)run->cli.width, cr_mpi_render, run, &err)) {
+        cr_log_error(&run->log, "curray: MPI rank %d on %s: %s", run->mpi_rank, cr_mpi_host(),
+                     err.msg);
+        return CR_EXIT_ERROR;
+    }
+    return CR_EXIT_OK;
+}
+
+/* MPI: every rank checks the run (same arguments, same files); the CPU
+ * backend on every rank, and a one-frame run needs a row per rank. */
+static int cr_mpi_check(cr_run *run, cr_err *err)
+{
+    if (run->mpi_size < 2)
+        return 0;
+    if (run->cli.backend == CR_BACKEND_CUDA)
+        return cr_err_set(err, "--backend cuda: an MPI run renders on the CPU of every rank "
+                               "(GPUs per rank are not supported yet)");
+    run->cli.backend = CR_BACKEND_CPU;
+    if (run->cli.frames == 1 && run->mpi_size > run->cli.height)
+        return cr_err_set(err,
+                          "%d MPI ranks for a one-frame run of %ld rows: more ranks than rows; "
+                          "use at most %ld ranks, or a taller frame",
+                          run->mpi_size, run->cli.height, run->cli.height);
+    return 0;
+}
+
+/* Do all ranks go on? (prepared: this rank's cr_prepare succeeded.) */
+static int cr_mpi_ready(cr_run *run, int prepared, int *rc)
+{
+    int all;
+    if (run->mpi_size < 2)
+        return prepared;
+    all = cr_mpi_all_ok(prepared);
+    if (!all && prepared) {
+        if (run->mpi_rank == 0)
+            cr_log_error(&run->log, "curray: another MPI rank could not prepare the run (its "
+                                    "message is above); nothing rendered");
+        *rc = run->mpi_rank == 0 ? CR_EXIT_ERROR : CR_EXIT_OK;
+    }
+    return all;
+}
+
 /* Render every frame with the chosen workers; Ctrl-C handling is installed
  * for the time of the render. */
 static int cr_render_frames(cr_run *run, cr_err *err)
@@ -726,7 +957,9 @@ static int cr_render_frames(cr_run *run, cr_err *err)
         run->workers[k].frame = 0;
         run->workers[k].frac = 0.0;
     }
-    if (run->n_workers == 1) {
+    if (run->mpi_size > 1) {
+        cr_mpi_frames(run);
+    } else if (run->n_workers == 1) {
         cr_worker_main(&run->workers[0]);
     } else {
         for (k = 0; k < run->n_workers; k++) {
@@ -872,8 +1105,12 @@ static int cr_prepare(cr_run *run, int *rc)
         return -1;
     }
     /* console now, the file once the output folder exists (log.h) */
-    cr_log_hold(&run->log, run->cfg.verbose, run->cfg.quiet);
+    cr_log_hold(&run->log, run->cfg.verbose, run->cfg.quiet || run->mpi_rank > 0);
     run->log_open = 1;
+    if (cr_mpi_check(run, &err)) {
+        cr_log_error(&run->log, "curray: %s", err.msg);
+        return -1;
+    }
     cr_log_detail(&run->log, "curray %s, configuration %s", CURRAY_VERSION,
                   run->cli.config_path ? run->cli.config_path : "(built-in defaults)");
     if (cr_choose_backend(run))
@@ -885,6 +1122,13 @@ static int cr_prepare(cr_run *run, int *rc)
     if (cr_scene_load(run->cli.scene_path, &run->scene, &err) || cr_check_frames(run, &err)) {
         cr_log_error(&run->log, "curray: scene file %s", err.msg);
         return -1;
+    }
+    if (run->mpi_rank > 0)
+        return 0; /* the other MPI ranks only trace */
+    if (run->mpi_size > 1) {
+        size_t n = strlen(run->backend_name);
+        snprintf(run->backend_name + n, sizeof run->backend_name - n, " on each of %d MPI ranks",
+                 run->mpi_size);
     }
     run->info.scene_path = run->cli.scene_path;
     run->info.config_path = run->cli.config_path;
@@ -970,14 +1214,18 @@ int main(int argc, char **argv)
     int rc;
 
     memset(&run, 0, sizeof run);
+    cr_mpi_init(&argc, &argv, &run.mpi_rank, &run.mpi_size);
     run.argc = argc;
     run.argv = argv;
     /* A reader that goes away (curray ... | head) must not kill a render
      * half-way: console writes then just fail. */
     signal(SIGPIPE, SIG_IGN);
-    if (cr_command_line(&run, &rc) == 0 && cr_prepare(&run, &rc) == 0) {
+    if (cr_command_line(&run, &rc) == 0 && cr_mpi_ready(&run, cr_prepare(&run, &rc) == 0, &rc)) {
         if (run.cli.trace) {
-            rc = cr_trace_paths(&run);
+            if (run.mpi_rank == 0)
+                rc = cr_trace_paths(&run);
+        } else if (run.mpi_rank > 0) {
+            rc = cr_mpi_rank_main(&run);
         } else if (cr_render_frames(&run, &err)) {
             cr_log_error(&run.log, "curray: %s", err.msg);
             rc = CR_EXIT_ERROR;
@@ -1002,5 +1250,10 @@ int main(int argc, char **argv)
     cr_scene_free(&run.scene);
     if (run.log_open)
         cr_log_close(&run.log);
+    /* rank 0 stopped before every rank was told to stop (Ctrl-C, a rank
+     * died): end them all; the finished frames are on disk */
+    if (run.mpi_size > 1 && run.mpi_rank == 0 && run.stats && !run.mpi_served)
+        cr_mpi_abort(rc);
+    cr_mpi_finalize();
     return rc;
 }
