@@ -109,7 +109,7 @@ def _common(scene, width, height, frame, frames, config):
 def _pixel_dtype():
     lay = _curray._pixel_layout()
     fields = [("redshift", "<f8"), ("err_mean", "<f8"), ("err_std", "<f8"), ("hit_r", "<f8"),
-              ("hit_phi", "<f8"), ("steps", "<u4"), ("object", "<i2"), ("outcome", "u1"),
+              ("hit_phi", "<f8"), ("bolo", "<f8"), ("steps", "<u4"), ("object", "<i2"), ("outcome", "u1"),
               ("color", "u1", (3,))]
     return np.dtype({"names": [f[0] for f in fields],
                      "formats": [f[1] if len(f) == 2 else (f[1], f[2]) for f in fields],
@@ -135,7 +135,9 @@ def render(scene, width, height, frame=0, frames=1, **config):
     CSV's x, y): rgb (H, W, 3) uint8; redshift float64 (-1 where undefined,
     as in the CSV); outcome uint8 (codes into OUTCOMES); steps uint32;
     err_mean, err_std float64; hit_r, hit_phi float64 (-1 unless disc or
-    sphere); object int16 (sphere index, disc face 0 top / 1 bottom, -1).
+    sphere); bolometric float64 (g^4 F / F_max of a Keplerian disc hit, else
+    -1, as in the CSV); object int16 (sphere index, disc face 0 top / 1
+    bottom, -1).
     Raises ValueError with the command line's message on bad input.
     """
     args = _common(scene, width, height, frame, frames, config)
@@ -149,6 +151,8 @@ def render(scene, width, height, frame=0, frames=1, **config):
     hit = np.isin(out["outcome"], _HIT)
     out["hit_r"] = np.where(hit, px["hit_r"], -1.0)
     out["hit_phi"] = np.where(hit, px["hit_phi"], -1.0)
+    disc = (out["outcome"] == OUTCOMES.index("disc")) & (px["bolo"] >= 0.0)
+    out["bolometric"] = np.where(disc, px["bolo"], -1.0)
     return out
 
 

@@ -199,13 +199,14 @@ static PyObject *cr_py_pixel_layout(PyObject *self, PyObject *unused)
 {
     (void)self;
     (void)unused;
-    return Py_BuildValue("{s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n}", "itemsize",
+    return Py_BuildValue("{s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n}", "itemsize",
                          (Py_ssize_t)sizeof(cr_pixel), "redshift",
                          (Py_ssize_t)offsetof(cr_pixel, redshift), "err_mean",
                          (Py_ssize_t)offsetof(cr_pixel, err_mean), "err_std",
                          (Py_ssize_t)offsetof(cr_pixel, err_std), "hit_r",
                          (Py_ssize_t)offsetof(cr_pixel, hit_r), "hit_phi",
-                         (Py_ssize_t)offsetof(cr_pixel, hit_phi), "steps",
+                         (Py_ssize_t)offsetof(cr_pixel, hit_phi), "bolo",
+                         (Py_ssize_t)offsetof(cr_pixel, bolo), "steps",
                          (Py_ssize_t)offsetof(cr_pixel, steps), "object",
                          (Py_ssize_t)offsetof(cr_pixel, object), "outcome",
                          (Py_ssize_t)offsetof(cr_pixel, outcome), "color",

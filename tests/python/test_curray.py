@@ -54,6 +54,10 @@ INF_YAML = """metric: {m: 2, a: 1.4, q: 0}
 observer: {r: inf, theta: 60 deg, phi: 0, hextent: 60}
 accretion: {radius: [8, 24], resolution: [2, 12], color1: [0, 255, 0]}
 """
+KEPLER_YAML = """metric: {m: 1, a: 0.7, q: 0}
+observer: {r: 50, theta: 75 deg, phi: 0, hfov: 30 deg}
+accretion: {model: keplerian, radius: [15], inside_isco: plunging}
+"""
 SPHERE_YAML = os.path.join(SRC, "scenes", "listing-7.1.3-sphere-around-horizon.yml")
 DEMO_YAML = os.path.join(SRC, "scenes", "demo.yml")
 
@@ -62,7 +66,7 @@ DEMO_YAML = os.path.join(SRC, "scenes", "demo.yml")
 def scenes(tmp_path_factory):
     d = tmp_path_factory.mktemp("scenes")
     out = {}
-    for name, text in (("kn", KN_YAML), ("inf", INF_YAML)):
+    for name, text in (("kn", KN_YAML), ("inf", INF_YAML), ("kepler", KEPLER_YAML)):
         p = d / (name + ".yml")
         p.write_text(text)
         out[name] = str(p)
@@ -87,7 +91,7 @@ def read_csv(path):
 
 # ---- render == the command line's CSV -------------------------------------
 
-@pytest.mark.parametrize("name", ["kn", "inf", "sphere", "demo"])
+@pytest.mark.parametrize("name", ["kn", "inf", "sphere", "demo", "kepler"])
 @pytest.mark.parametrize("config", [{}, {"integrator": "rk4"}, {"samples": 2}])
 def test_render_equals_cli_csv(scenes, tmp_path, name, config):
     if name == "inf" and config.get("integrator") == "rk4":
@@ -105,7 +109,7 @@ def test_render_equals_cli_csv(scenes, tmp_path, name, config):
     # to curray.render too)
     col = {h: i for i, h in enumerate(header)}
     known = {"x", "y", "r", "g", "b", "steps", "redshift", "err_mean", "err_std", "outcome",
-             "hit_r", "hit_phi"}
+             "hit_r", "hit_phi", "bolometric"}
     assert set(header) <= known, "CSV columns without a render() array: %s" % (
         set(header) - known)
     assert len(rows) == W * H
@@ -115,7 +119,7 @@ def test_render_equals_cli_csv(scenes, tmp_path, name, config):
     for c, k in (("r", 0), ("g", 1), ("b", 2)):
         assert np.array_equal(a[:, col[c]].astype(int), img["rgb"][y, x, k]), c
     assert np.array_equal(a[:, col["steps"]].astype(np.int64), img["steps"][y, x])
-    for k in ("redshift", "err_mean", "err_std", "hit_r", "hit_phi"):
+    for k in ("redshift", "err_mean", "err_std", "hit_r", "hit_phi", "bolometric"):
         assert np.array_equal(a[:, col[k]].astype(float), img[k][y, x]), k
     names = np.array(curray.OUTCOMES)[img["outcome"][y, x]]
     assert np.array_equal(a[:, col["outcome"]].astype(str), names)
