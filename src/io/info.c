@@ -172,13 +172,28 @@ static void cr_info_scene(FILE *fp, const cr_scene *s)
     cr_put_angle(fp, "roll", s->roll);
     cr_put_angle(fp, "pitch", s->pitch);
     cr_put_angle(fp, "yaw", s->yaw);
+    if (s->obs_motion == CR_MOTION_VELOCITY) {
+        cr_put_anim(fp, "velocity v_r (ZAMO)", s->obs_v[0], "c");
+        cr_put_anim(fp, "velocity v_theta", s->obs_v[1], "c");
+        cr_put_anim(fp, "velocity v_phi", s->obs_v[2], "c");
+    } else if (s->obs_motion != CR_MOTION_STATIC) {
+        static const char *const names[] = {"static", "zamo", "orbit", "infall"};
+        fprintf(fp, "  %-22s %s%s\n", "motion", names[s->obs_motion],
+                s->obs_motion == CR_MOTION_ORBIT
+                    ? (s->obs_retrograde ? " (retrograde)" : " (prograde)")
+                    : "");
+    }
     if (s->obs_at_infinity) {
         cr_put_anim(fp, "image plane width", s->hextent, "M");
         if (s->has_vextent)
             cr_put_anim(fp, "image plane height", s->vextent, "M");
         else
             fprintf(fp, "  %-22s from the width and the aspect ratio\n", "image plane height");
+    } else if (s->obs_projection == CR_PROJ_EQUIRECT) {
+        fprintf(fp, "  %-22s equirectangular, 360 x 180 deg\n", "projection");
     } else {
+        if (s->obs_projection == CR_PROJ_FISHEYE)
+            fprintf(fp, "  %-22s fisheye (equidistant)\n", "projection");
         cr_put_angle(fp, "horizontal fov", s->hfov);
         if (s->has_vfov)
             cr_put_angle(fp, "vertical fov", s->vfov);

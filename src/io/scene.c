@@ -927,7 +927,7 @@ static int frame_motion(const cr_scene *s, int k, int n, const cr_metric *mt,
         speed = sqrt(o->v[0] * o->v[0] + o->v[1] * o->v[1] + o->v[2] * o->v[2]);
         if (!(speed < 1.0))
             return frame_fail(err, s, k, n,
-                              "observer.motion = [%g, %g, %g]: the speed |v| = %.17g must be "
+                              "observer.motion = [%g, %g, %g]: the speed |v| = %.9g must be "
                               "below 1 (the speed of light)",
                               o->v[0], o->v[1], o->v[2], speed);
         if (on_axis && (o->v[1] != 0.0 || o->v[2] != 0.0))

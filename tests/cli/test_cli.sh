@@ -404,6 +404,8 @@ scene "projection: fisheye over 360 deg" 1 "observer.hfov = 400 deg: a fisheye's
     "$KERR"$'observer: {r: 10, theta: 90, phi: 0, hfov: 400, projection: fisheye}\n'
 scene "motion at infinity" 1 "observer.motion: the observer at infinity (r: inf) is static" \
     "$KERR"$'observer: {r: inf, theta: 90, phi: 0, hextent: 30, motion: infall}\n'
+scene "motion: sideways on the polar axis" 1 "observer.motion = [0, 0.1, 0]: on the polar axis (theta = 0 deg) e_theta and e_phi are not defined" \
+    "$KERR"$'observer: {r: 10, theta: 0, phi: 0, hfov: 60, motion: [0, 0.1, 0]}\n'
 # rays that end on max_steps: own colour (yellow), a warning, a line in info.txt
 rm -rf o
 printf 'raytracer: {integrator: rk4, max_steps: 50}\n' >limits.yml
