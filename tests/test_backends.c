@@ -211,6 +211,20 @@ static int bk_builtin(int k, bk_case *c)
                   0.0, 0.0);
         bk_sky(c, 0.0);
         break;
+    case 6: /* issue 13: an observer moving inside the ergosphere (0.5 c radially
+             * in, 0.3 c along -phi, as the ZAMO measures) with a 270 deg
+             * fisheye, a disc and a sky at infinity */
+        bk_base(c, "moving observer in the ergosphere, 270 deg fisheye", 1.0, 0.95, 0.0, 1.8,
+                70.0 * BK_DEG);
+        c->f.observer.motion = CR_MOTION_VELOCITY;
+        c->f.observer.v[0] = -0.5;
+        c->f.observer.v[2] = -0.3;
+        c->f.observer.projection = CR_PROJ_FISHEYE;
+        c->f.observer.hfov = 270.0 * BK_DEG;
+        c->f.observer.vfov = c->f.observer.hfov * BK_H / BK_W;
+        bk_disc(&c->f, bk_rgb(0, 255, 0), 3, 24, 2.0, 10.0);
+        bk_sky(c, 0.0);
+        break;
     default:
         return 0;
     }
