@@ -93,26 +93,10 @@ run_echo() { echo "+ $*" >&2; "$@"; }
 bench_ensure_binary cpu
 
 # --- kerrz, in its own virtual environment ------------------------------------
-venv=${KERRZ_VENV:-$BUILD_DIR/kerrz-venv}
-if [ ! -x "$venv/bin/python" ]; then
-    echo "bench: creating $venv for kerrz-cli $kver" >&2
-    run_echo python3 -m venv "$venv" >&2 ||
-        die "python3 -m venv failed (Debian: apt-get install python3-venv)"
-fi
-if ! "$venv/bin/python" -c "import importlib.metadata as m, sys; sys.exit(m.version('kerrz-cli') != '$kver')" 2>/dev/null; then
-    run_echo "$venv/bin/python" -m pip install --disable-pip-version-check -q "kerrz-cli==$kver" >&2 ||
-        die "pip install kerrz-cli==$kver failed"
-fi
-# the static binary inside the wheel (the kerrzcli entry point would add a
-# Python start-up to every timed run)
-KERRZ=$("$venv/bin/python" -c "import kerrz_cli; print(kerrz_cli.KERRZ_PATH)") ||
-    die "cannot locate the kerrz binary in $venv"
-[ -x "$KERRZ" ] || die "$KERRZ is not executable"
-kz_version=$("$KERRZ" --version 2>&1 | head -1)
-echo "bench: kerrz: $KERRZ ($kz_version)" >&2
+bench_kerrz_setup "$kver"
 
 # --- the scene and the configuration -------------------------------------------
-ext=$(python3 -c "print(repr(2 * $HALF * $size / ($size - 1)))")
+ext=$(bench_kerrz_extent "$HALF" "$size")
 scene="$work/kerrz-disc-$size.yml"
 sed -e "s/^\( *hextent:\).*/\1 $ext/" -e "s/^\( *vextent:\).*/\1 $ext/" \
     "$BENCH_DIR/scenes/kerrz-disc.yml" >"$scene"

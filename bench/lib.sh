@@ -193,3 +193,38 @@ bench_markdown() {
             $1, $4, $5, $2, $3, c, $7, $8, $9, $10, $14, $12, ($13 == "yes" ? "" : " (varied)"), $15, $16, ($22 == "" ? "n/a" : $22), $17, $18, $19, $20, $21
     }' "$1"
 }
+
+# kerrz (the peer of bench/kerrz.sh and bench/kerrz_redshift.sh), kerrz-cli
+# release $1 from PyPI in its own virtual environment (KERRZ_VENV, default
+# $BUILD_DIR/kerrz-venv; created and filled here, never a dependency of
+# curray). Sets venv, KERRZ (the static binary inside the wheel: the kerrzcli
+# entry point would add a Python start-up to every timed run) and kz_version.
+bench_kerrz_setup() {
+    local kver=$1
+    venv=${KERRZ_VENV:-$BUILD_DIR/kerrz-venv}
+    if [ ! -x "$venv/bin/python" ]; then
+        echo "bench: creating $venv for kerrz-cli $kver" >&2
+        echo "+ python3 -m venv $venv" >&2
+        python3 -m venv "$venv" >&2 ||
+            die "python3 -m venv failed (Debian: apt-get install python3-venv)"
+    fi
+    if ! "$venv/bin/python" -c "import importlib.metadata as m, sys; sys.exit(m.version('kerrz-cli') != '$kver')" 2>/dev/null; then
+        echo "+ $venv/bin/python -m pip install kerrz-cli==$kver" >&2
+        "$venv/bin/python" -m pip install --disable-pip-version-check -q "kerrz-cli==$kver" >&2 ||
+            die "pip install kerrz-cli==$kver failed"
+    fi
+    KERRZ=$("$venv/bin/python" -c "import kerrz_cli; print(kerrz_cli.KERRZ_PATH)") ||
+        die "cannot locate the kerrz binary in $venv"
+    [ -x "$KERRZ" ] || die "$KERRZ is not executable"
+    kz_version=$("$KERRZ" --version 2>&1 | head -1)
+    echo "bench: kerrz: $KERRZ ($kz_version)" >&2
+}
+
+# curray's image-plane extent (hextent = vextent, in M) that matches kerrz's
+# `image --alpha A --beta A` grid of N points per axis: kerrz samples
+# alpha_i = -A + 2A i/(N-1), both ends included, so the pixel pitch is
+# 2A/(N-1) and N pixels span 2A N/(N-1). Rows: curray's row j is kerrz's
+# beta row N-1-j (bench/compare_classes.py).
+bench_kerrz_extent() { # A N
+    python3 -c "print(repr(2 * $1 * $2 / ($2 - 1)))"
+}
