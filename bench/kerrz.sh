@@ -96,12 +96,8 @@ bench_ensure_binary cpu
 bench_kerrz_setup "$kver"
 
 # --- the scene and the configuration -------------------------------------------
-ext=$(bench_kerrz_extent "$HALF" "$size")
 scene="$work/kerrz-disc-$size.yml"
-sed -e "s/^\( *hextent:\).*/\1 $ext/" -e "s/^\( *vextent:\).*/\1 $ext/" \
-    "$BENCH_DIR/scenes/kerrz-disc.yml" >"$scene"
-grep -q "hextent: $ext" "$scene" && grep -q "vextent: $ext" "$scene" ||
-    die "could not set the image extents in $scene"
+bench_kerrz_scene "$BENCH_DIR/scenes/kerrz-disc.yml" "$scene" "$HALF" "$size"
 if [ -z "$config" ]; then
     config="$work/curray-config.yml"
     {

@@ -37,10 +37,8 @@ HALF=20
 bench_ensure_binary cpu
 bench_kerrz_setup "$kver"
 
-ext=$(bench_kerrz_extent "$HALF" "$size")
 scene="$work/kerrz-keplerian-$size.yml"
-sed -e "s/^\( *hextent:\).*/\1 $ext/" -e "s/^\( *vextent:\).*/\1 $ext/" \
-    "$BENCH_DIR/scenes/kerrz-keplerian.yml" >"$scene"
+bench_kerrz_scene "$BENCH_DIR/scenes/kerrz-keplerian.yml" "$scene" "$HALF" "$size"
 rm -rf "$work/curray"
 cur=("$CURRAY" -s "$scene" -o "$work/curray" -x "$size" -y "$size" -t id -a true -q true --backend cpu)
 kz=("$KERRZ" image --spin 0.9 --incl 85 --alpha "$HALF" --beta "$HALF" --resolution $((size / 40))

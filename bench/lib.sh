@@ -228,3 +228,12 @@ bench_kerrz_setup() {
 bench_kerrz_extent() { # A N
     python3 -c "print(repr(2 * $1 * $2 / ($2 - 1)))"
 }
+
+# Copy bench scene SRC to DST with hextent = vextent = bench_kerrz_extent A N
+# (sets ext).
+bench_kerrz_scene() { # SRC DST A N
+    ext=$(bench_kerrz_extent "$3" "$4")
+    sed -e "s/^\( *hextent:\).*/\1 $ext/" -e "s/^\( *vextent:\).*/\1 $ext/" "$1" >"$2"
+    grep -q "hextent: $ext" "$2" && grep -q "vextent: $ext" "$2" ||
+        die "could not set the image extents in $2"
+}

@@ -441,21 +441,18 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
             if (cr_yaml_bool(y, f[RETRO].value, sub, &s->disc_retrograde, err))
                 return -1;
         }
-        if (f[TEMP].value && (f[MASS].value || f[MDOT].value)) {
+        /* temperature or the physical inputs; mass_msun and mdot_edd together */
+        if (!f[MASS].value != !f[MDOT].value || (f[TEMP].value && f[MASS].value)) {
             int i = f[MASS].value ? MASS : MDOT;
             cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
-            return cr_yaml_fail(y, f[i].key_node, sub, err,
-                                "give either accretion.temperature (the peak temperature) or "
-                                "accretion.mass_msun with accretion.mdot_edd (the physical "
-                                "inputs), not both");
-        }
-        if (!f[MASS].value != !f[MDOT].value) {
-            int i = f[MASS].value ? MASS : MDOT;
-            cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
-            return cr_yaml_fail(y, f[i].key_node, sub, err,
-                                "accretion.mass_msun and accretion.mdot_edd go together (the "
-                                "hole's mass in solar masses and the accretion rate in "
-                                "Eddington units); give both");
+            return cr_yaml_fail(y, f[i].key_node, sub, err, "%s",
+                                f[TEMP].value
+                                    ? "give either accretion.temperature (the peak temperature) "
+                                      "or accretion.mass_msun with accretion.mdot_edd (the "
+                                      "physical inputs), not both"
+                                    : "accretion.mass_msun and accretion.mdot_edd go together "
+                                      "(the hole's mass in solar masses and the accretion rate "
+                                      "in Eddington units); give both");
         }
         if (positive_number(y, &f[TEMP], p, "the peak temperature", "kelvin",
                             &s->disc_temperature, err) ||
