@@ -10,7 +10,8 @@
  *    inclination 89.5 deg lies inside them and within 1.5 % of them;
  *  - the approaching side (image left: the disc turns counter-clockwise
  *    about +z, image right is toward increasing phi) has g > 1;
- *  - Mino and RK4 give the same g on the same disc pixels;
+ *  - Mino and RK4 give the same g on the same disc pixels, plunging matter
+ *    included (its g needs the ray's p_r, from each integrator's state);
  *  - plunging matter (inside_isco: plunging), face-on Schwarzschild from
  *    infinity: a photon reaching the axis has L = 0 and Carter constant
  *    b^2 E^2 (b = sqrt(alpha^2 + beta^2), the pixel's impact parameter), so
@@ -23,7 +24,8 @@
  *    g = sqrt(1 - 3/r) and the directly integrated flux (cr_orbit_flux);
  *  - the physical temperature scale: M = 10 M_sun, mdot = 0.1 Eddington,
  *    Schwarzschild: T_peak from Page & Thorne's closed form by hand;
- *  - the CSV of a Keplerian disc: redshift = g, hit_r, bolometric. */
+ *  - the CSV of a Keplerian disc: redshift = g, hit_r, bolometric; the
+ *    grey levels of b_<k>.png. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -199,10 +201,11 @@ static void test_integrators_agree(void **state)
 {
     const char *text = "metric: {m: 1, a: 0.6, q: 0.2}\n"
                        "observer: {r: 60, theta: 80, phi: 0, hfov: 30}\n"
-                       "accretion: {model: keplerian, radius: [4, 15], temperature: 6000}\n";
+                       "accretion: {model: keplerian, radius: [15], temperature: 6000, "
+                       "inside_isco: plunging}\n";
     cr_frame fm, fr;
     cr_scene sm, sr;
-    int w = 48, h = 24, i, j, n = 0, blue = 0;
+    int w = 48, h = 24, i, j, n = 0, blue = 0, plunge = 0;
     double worst = 0.0;
     (void)state;
     frame_from(text, CR_INTEG_MINO, w, h, &fm, &sm);
@@ -214,12 +217,16 @@ static void test_integrators_agree(void **state)
                 continue;
             n++;
             blue += a.redshift > 1.0;
+            /* plunging matter: g uses the ray's p_r, from each integrator's
+             * own state (g_rr u^r under rk4, -(dw/dtau)/D under mino) */
+            plunge += a.hit_r < fm.disc.r_isco;
             if (fabs(a.redshift - b.redshift) > worst)
                 worst = fabs(a.redshift - b.redshift);
         }
-    print_message("mino vs rk4: %d disc pixels, worst |dg| %.3g, %d with g > 1\n", n, worst,
-                  blue);
-    assert_true(n > 50 && blue > 0);
+    print_message("mino vs rk4: %d disc pixels (%d on plunging matter), worst |dg| %.3g, %d with "
+                  "g > 1\n",
+                  n, plunge, worst, blue);
+    assert_true(n > 50 && blue > 0 && plunge > 5);
     assert_true(worst < 1e-5);
     cr_scene_free(&sm);
     cr_scene_free(&sr);
@@ -402,6 +409,33 @@ static void test_csv(void **state)
     cr_scene_free(&s);
 }
 
+/* b_<k>.png's grey level 255 (log10 v + 3) / 4 of v = cr_pixel.bolo on a
+ * disc hit, clamped; black elsewhere (exact bytes). */
+static void test_bolometric_png(void **state)
+{
+    static const struct {
+        int outcome;
+        double v;
+        int grey;
+    } cases[] = {{CR_OUT_DISC, 10.0, 255},  {CR_OUT_DISC, 100.0, 255}, {CR_OUT_DISC, 1.0, 191},
+                 {CR_OUT_DISC, 0.1, 128},   {CR_OUT_DISC, 1e-3, 0},    {CR_OUT_DISC, 1e-5, 0},
+                 {CR_OUT_DISC, 0.0, 0},     {CR_OUT_DISC, -1.0, 0},    {CR_OUT_SKY, 1.0, 0},
+                 {CR_OUT_SPHERE, 1.0, 0},   {CR_OUT_HORIZON, 1.0, 0}};
+    size_t k;
+    (void)state;
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        cr_pixel p;
+        cr_rgb c;
+        memset(&p, 0, sizeof p);
+        p.outcome = (uint8_t)cases[k].outcome;
+        p.bolo = cases[k].v;
+        c = cr_bolometric_color(&p);
+        assert_int_equal(c.r, cases[k].grey);
+        assert_int_equal(c.g, cases[k].grey);
+        assert_int_equal(c.b, cases[k].grey);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -413,6 +447,7 @@ int main(void)
         cmocka_unit_test(test_bolometric),
         cmocka_unit_test(test_physical_temperature),
         cmocka_unit_test(test_csv),
+        cmocka_unit_test(test_bolometric_png),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
