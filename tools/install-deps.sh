@@ -10,6 +10,7 @@ set -euo pipefail
 # tests (test_python).
 pkgs=(cmake make gcc pkg-config libyaml-dev libpng-dev zlib1g-dev libcmocka-dev
       libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
+      libopenmpi-dev openmpi-bin
       libcfitsio-dev
       python3-dev python3-venv python3-numpy python3-pytest python3-astropy python3-setuptools
       python3-wheel "$@")

@@ -1014,6 +1014,10 @@ static int cr_report(cr_run *run)
     if (atomic_load(&run->intr.count) > 0) {
         cr_log_error(&run->log, "curray: interrupted; %d of %ld frames finished and kept in %s",
                      run->n_done, run->cli.frames, run->cli.output_dir);
+        if (run->mpi_size > 1)
+            cr_log_error(&run->log, "curray: an MPI run stops when mpirun ends it: a rank died or "
+                                    "the job was cancelled (mpirun's message says which rank); "
+                                    "the same command with --resume renders the rest");
         return CR_EXIT_INTERRUPTED;
     }
     if (run->failed) {
@@ -1108,7 +1112,8 @@ static int cr_prepare(cr_run *run, int *rc)
     cr_log_hold(&run->log, run->cfg.verbose, run->cfg.quiet || run->mpi_rank > 0);
     run->log_open = 1;
     if (cr_mpi_check(run, &err)) {
-        cr_log_error(&run->log, "curray: %s", err.msg);
+        if (run->mpi_rank == 0) /* every rank finds the same */
+            cr_log_error(&run->log, "curray: %s", err.msg);
         return -1;
     }
     cr_log_detail(&run->log, "curray %s, configuration %s", CURRAY_VERSION,

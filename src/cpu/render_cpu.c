@@ -10,7 +10,8 @@
 
 typedef struct cr_cpu_job {
     const cr_frame *f;
-    cr_pixel *out;
+    cr_pixel *out;         /* row row0 of the frame */
+    int row0, rows;        /* the rows [row0, row0 + rows) */
     atomic_int next_row;
     atomic_int rows_done;
     atomic_int *cancel;   /* NULL: cannot be cancelled */
@@ -29,15 +30,15 @@ static void *cr_cpu_worker(void *arg)
     const cr_frame *f = job->f;
     for (;;) {
         int j = atomic_fetch_add(&job->next_row, 1), i;
-        if (j >= f->height)
+        if (j >= job->rows)
             break;
         /* per pixel, so that a long row near the hole stops within a pixel */
         for (i = 0; i < f->width; i++) {
             if (cr_cpu_cancelled(job))
                 goto wake;
-            job->out[(size_t)j * f->width + i] = cr_trace_pixel(f, i, j);
+            job->out[(size_t)j * f->width + i] = cr_trace_pixel(f, i, job->row0 + j);
         }
-        if (atomic_fetch_add(&job->rows_done, 1) + 1 == f->height)
+        if (atomic_fetch_add(&job->rows_done, 1) + 1 == job->rows)
             goto wake;
     }
     return NULL;
@@ -57,6 +58,12 @@ int cr_cpu_cores(void)
 int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn progress,
                   void *ctx, atomic_int *cancel, cr_err *err)
 {
+    return cr_cpu_render_rows(f, 0, f->height, threads, out, progress, ctx, cancel, err);
+}
+
+int cr_cpu_render_rows(const cr_frame *f, int row0, int rows, int threads, cr_pixel *out,
+                       cr_progress_fn progress, void *ctx, atomic_int *cancel, cr_err *err)
+{
     pthread_t *tid;
     cr_cpu_job job;
     int t, started = 0, rc = 0;
@@ -69,13 +76,18 @@ int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn 
         if (threads > CR_SYSCONFIG_MAX_THREADS)
             threads = CR_SYSCONFIG_MAX_THREADS;
     }
-    if (threads > f->height)
-        threads = f->height > 0 ? f->height : 1;
+    if (row0 < 0 || rows < 1 || row0 + rows > f->height)
+        return cr_err_set(err, "rows %d to %d of a frame of %d rows", row0, row0 + rows - 1,
+                          f->height);
+    if (threads > rows)
+        threads = rows;
     tid = malloc(sizeof *tid * (size_t)threads);
     if (!tid)
         return cr_err_set(err, "out of memory for %d worker threads", threads);
     job.f = f;
     job.out = out;
+    job.row0 = row0;
+    job.rows = rows;
     job.cancel = cancel;
     atomic_init(&job.next_row, 0);
     atomic_init(&job.rows_done, 0);
@@ -97,11 +109,11 @@ int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn 
     }
     /* wake every 0.25 s for progress, or at once when done or cancelled */
     pthread_mutex_lock(&job.lock);
-    while (atomic_load(&job.rows_done) < f->height && !cr_cpu_cancelled(&job)) {
+    while (atomic_load(&job.rows_done) < rows && !cr_cpu_cancelled(&job)) {
         struct timespec ts;
         if (progress) {
             pthread_mutex_unlock(&job.lock);
-            progress(ctx, atomic_load(&job.rows_done), f->height);
+            progress(ctx, atomic_load(&job.rows_done), rows);
             pthread_mutex_lock(&job.lock);
         }
         clock_gettime(CLOCK_REALTIME, &ts);
@@ -110,7 +122,7 @@ int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn 
             ts.tv_sec++;
             ts.tv_nsec -= 1000000000L;
         }
-        if (atomic_load(&job.rows_done) < f->height && !cr_cpu_cancelled(&job))
+        if (atomic_load(&job.rows_done) < rows && !cr_cpu_cancelled(&job))
             pthread_cond_timedwait(&job.finished, &job.lock, &ts);
     }
     pthread_mutex_unlock(&job.lock);
@@ -119,9 +131,9 @@ int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn 
     free(tid);
     pthread_cond_destroy(&job.finished);
     pthread_mutex_destroy(&job.lock);
-    if (atomic_load(&job.rows_done) < f->height)
+    if (atomic_load(&job.rows_done) < rows)
         rc = cr_err_set(err, "interrupted");
     else if (progress)
-        progress(ctx, f->height, f->height);
+        progress(ctx, rows, rows);
     return rc;
 }

@@ -25,6 +25,12 @@ typedef void (*cr_progress_fn)(void *ctx, int rows_done, int rows_total);
 int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn progress,
                   void *ctx, atomic_int *cancel, cr_err *err);
 
+/* The same for the rows [row0, row0 + rows) of f only (MPI: a row block of
+ * one frame), into out[(j - row0) * width + i]; progress counts those rows.
+ * The pixels are those cr_cpu_render gives, bit for bit. */
+int cr_cpu_render_rows(const cr_frame *f, int row0, int rows, int threads, cr_pixel *out,
+                       cr_progress_fn progress, void *ctx, atomic_int *cancel, cr_err *err);
+
 /* Number of online cores (>= 1). */
 int cr_cpu_cores(void);
 

@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# MPI (issue 14): mpirun -np 2 curray_mpi gives the files of a one-process
+# run, byte for byte, for a 3-frame run (frames spread over the ranks) and a
+# 1-frame run (rows spread over the ranks); more ranks than rows is refused;
+# a rank killed with SIGKILL ends the run, the finished frames are kept and
+# complete, and curray --resume finishes them into the one-process files.
+#
+#   bash tests/cli/test_mpi.sh path/to/curray path/to/curray_mpi [repository root]
+#
+# info.txt is compared without its times (Started, wall time, rays per
+# second) and its backend line (which names the ranks), record by record
+# after sorting by frame (an MPI run records frames in the order they
+# finish). mpirun runs with --oversubscribe (the ranks may outnumber the
+# cores), and --allow-run-as-root as root. About 15 s on two cores.
+set -u
+
+CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+CURRAY_MPI=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
+ROOT=$(cd "${3:-$(dirname "$0")/../..}" && pwd)
+command -v mpirun >/dev/null || { echo "test_mpi: no mpirun (Debian: openmpi-bin)" >&2; exit 1; }
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/curray-test-mpi.XXXXXX")
+trap 'rm -rf "$WORK"' EXIT
+cd "$WORK" || exit 2
+MPIRUN=(mpirun --oversubscribe -np 2)
+[ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
+# Open MPI's own allocations are not curray's: no leak check under ASan
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
+
+passed=0 failed=0
+OUT="" RC=0
+ok() { echo "ok   $1"; passed=$((passed + 1)); }
+bad() { echo "FAIL $1: $2"; [ -n "$OUT" ] && echo "$OUT" | sed 's/^/       | /'; failed=$((failed + 1)); }
+has() { case "$OUT" in *"$1"*) return 0 ;; *) return 1 ;; esac; }
+# info.txt without times and backend, records sorted by frame
+untimed() {
+    awk '/^Frame [0-9]+$/ { k = $2 } /^Finished / { next }
+         /^(Started|Resumed) |^  (wall time|rays per second|backend) / { next }
+         { printf "%08d %s\n", (k == "" ? -1 : k), $0 }' "$1" | sort -s -k1,1
+}
+# same DIR_A DIR_B FRAMES: every frame file and the untimed info.txt agree
+same() {
+    local f k
+    for ((k = 0; k < $3; k++)); do
+        for f in c_$k.png r_$k.png d_$k.csv; do
+            cmp -s "$1/$f" "$2/$f" || { echo "$f differs"; return 1; }
+        done
+    done
+    diff <(untimed "$1/info.txt") <(untimed "$2/info.txt")
+}
+
+cp "$ROOT/scenes/listing-7.1.6-sphere-orbit.yml" orbit.yml
+cp "$ROOT/scenes/listing-7.2.1-kerr-disc.yml" kerr.yml
+
+# --- 3 frames: frames over the ranks -------------------------------------
+"$CURRAY" -s orbit.yml -o one3 -x 96 -y 72 -f 3 -t icrd -a >/dev/null 2>&1
+OUT=$(timeout 120 "${MPIRUN[@]}" "$CURRAY_MPI" -s orbit.yml -o mpi3 -x 96 -y 72 -f 3 -t icrd -a 2>&1)
+RC=$?
+if [ $RC = 0 ] && has "on each of 2 MPI ranks" && same one3 mpi3 3 >diff3.txt 2>&1; then
+    ok "3 frames on 2 ranks: the files of a one-process run, byte for byte"
+else
+    bad "3 frames on 2 ranks" "rc $RC; $(cat diff3.txt)"
+fi
+
+# --- 1 frame: rows over the ranks ----------------------------------------
+"$CURRAY" -s kerr.yml -o one1 -x 97 -y 73 -t icrd -a -v >/dev/null 2>&1
+OUT=$(timeout 120 "${MPIRUN[@]}" "$CURRAY_MPI" -s kerr.yml -o mpi1 -x 97 -y 73 -t icrd -a -v 2>&1)
+RC=$?
+if [ $RC = 0 ] && has "rank 0 received" && same one1 mpi1 1 >diff1.txt 2>&1; then
+    ok "1 frame on 2 ranks (rows spread): the files of a one-process run, byte for byte"
+else
+    bad "1 frame on 2 ranks" "rc $RC; $(cat diff1.txt)"
+fi
+
+# --- more ranks than rows --------------------------------------------------
+OUT=$(timeout 120 "${MPIRUN[@]}" "$CURRAY_MPI" -s kerr.yml -o rows -x 8 -y 1 -a 2>&1)
+RC=$?
+if [ $RC != 0 ] && has "2 MPI ranks for a one-frame run of 1 rows: more ranks than rows" && [ ! -e rows ]; then
+    ok "more ranks than rows of a one-frame run is refused"
+else
+    bad "more ranks than rows" "rc $RC"
+fi
+
+# --- a rank dies ---------------------------------------------------------------
+ARGS=(-s orbit.yml -x 320 -y 240 -f 6 -t icrd -a --threads 1)
+"$CURRAY" "${ARGS[@]}" -o one6 >/dev/null 2>&1
+timeout 120 "${MPIRUN[@]}" "$CURRAY_MPI" "${ARGS[@]}" -o dead >dead.log 2>&1 &
+job=$!
+for _ in $(seq 1 6000); do
+    grep -qx "Frame 1" dead/info.txt 2>/dev/null && break
+    sleep 0.01
+done
+killed=""
+for p in $(pgrep -f "$CURRAY_MPI"); do
+    if tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1"; then
+        kill -9 "$p" && killed=$p
+    fi
+done
+wait $job
+RC=$?
+OUT=$(cat dead.log)
+n=$(grep -cE '^Frame [0-9]+$' dead/info.txt)
+complete=1
+for f in dead/c_*.png dead/r_*.png dead/d_*.csv; do
+    cmp -s "$f" "one6/$(basename "$f")" || complete=0
+done
+if [ -n "$killed" ] && [ $RC != 0 ] && has "exited on signal 9" &&
+   has "interrupted; $n of 6 frames finished and kept in dead" && [ "$n" -ge 2 ] && [ "$n" -le 6 ] &&
+   [ $complete = 1 ] && ! ls -a dead | grep -q '\.tmp\.'; then
+    ok "rank 1 killed: the run ends with a message, $n finished frames kept whole, no temporaries"
+else
+    bad "a rank dies" "rc $RC, killed '$killed', $n frames, complete $complete"
+fi
+OUT=$(timeout 120 "$CURRAY" "${ARGS[@]}" -o dead --resume 2>&1)
+RC=$?
+if [ $RC = 0 ] && has "resuming: $n of 6 frames" && same one6 dead 6 >diff6.txt 2>&1; then
+    ok "--resume after the dead rank gives the files of an uninterrupted run"
+else
+    bad "--resume after a dead rank" "rc $RC; $(cat diff6.txt)"
+fi
+
+echo "$passed passed, $failed failed"
+[ $failed = 0 ]
