@@ -27,7 +27,8 @@ def version():
 
 LIB_SOURCES = [
     "io/error.c", "io/scene.c", "io/yamlutil.c", "io/sysconfig.c", "io/png_io.c",
-    "io/fsutil.c", "io/atomic.c", "io/info.c", "io/log.c", "io/raypath.c", "cpu/render_cpu.c",
+    "io/fsutil.c", "io/atomic.c", "io/info.c", "io/log.c", "io/raypath.c", "io/output.c",
+    "cpu/render_cpu.c",
 ]
 
 ext = Extension(

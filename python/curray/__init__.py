@@ -106,20 +106,9 @@ def _common(scene, width, height, frame, frames, config):
                 width=int(width), height=int(height), frame=int(frame), frames=int(frames))
 
 
-def _pixel_dtype():
-    lay = _curray._pixel_layout()
-    fields = [("redshift", "<f8"), ("err_mean", "<f8"), ("err_std", "<f8"), ("hit_r", "<f8"),
-              ("hit_phi", "<f8"), ("bolo", "<f8"), ("steps", "<u4"), ("object", "<i2"), ("outcome", "u1"),
-              ("color", "u1", (3,))]
-    return np.dtype({"names": [f[0] for f in fields],
-                     "formats": [f[1] if len(f) == 2 else (f[1], f[2]) for f in fields],
-                     "offsets": [lay[f[0]] for f in fields],
-                     "itemsize": lay["itemsize"]})
-
-
-_PIXEL = _pixel_dtype()
-_NO_SOURCE = (OUTCOMES.index("none"), OUTCOMES.index("error"), OUTCOMES.index("limit"))
-_HIT = (OUTCOMES.index("disc"), OUTCOMES.index("sphere"))
+_DTYPES = {"rgb": "u1", "redshift": "=f8", "outcome": "u1", "steps": "=u4", "err_mean": "=f8",
+           "err_std": "=f8", "hit_r": "=f8", "hit_phi": "=f8", "bolometric": "=f8",
+           "object": "=i2"}
 
 
 def render(scene, width, height, frame=0, frames=1, **config):
@@ -141,18 +130,10 @@ def render(scene, width, height, frame=0, frames=1, **config):
     Raises ValueError with the command line's message on bad input.
     """
     args = _common(scene, width, height, frame, frames, config)
-    buf = _curray._render(**args)
-    px = np.frombuffer(buf, dtype=_PIXEL).reshape(args["height"], args["width"])
-    out = {"rgb": np.ascontiguousarray(px["color"])}
-    for k in ("steps", "err_mean", "err_std", "object", "outcome"):
-        out[k] = np.ascontiguousarray(px[k])
-    undefined = np.isin(out["outcome"], _NO_SOURCE) | np.isnan(px["redshift"])
-    out["redshift"] = np.where(undefined, -1.0, px["redshift"])
-    hit = np.isin(out["outcome"], _HIT)
-    out["hit_r"] = np.where(hit, px["hit_r"], -1.0)
-    out["hit_phi"] = np.where(hit, px["hit_phi"], -1.0)
-    disc = (out["outcome"] == OUTCOMES.index("disc")) & (px["bolo"] >= 0.0)
-    out["bolometric"] = np.where(disc, px["bolo"], -1.0)
+    shape = (args["height"], args["width"])
+    out = {}
+    for k, buf in _curray._render(**args).items():
+        out[k] = np.frombuffer(buf, dtype=_DTYPES[k]).reshape(shape + ((3,) if k == "rgb" else ()))
     return out
 
 

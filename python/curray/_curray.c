@@ -5,9 +5,9 @@
  * comes back as a cr_err message and is raised as ValueError (bad input) or
  * MemoryError; nothing here exits or prints.
  *
- * The pixels come back as one bytes-like buffer of cr_pixel structs; the
- * Python side views its fields through pixel_layout() (offsets from
- * offsetof, so a new field in cr_pixel cannot shift them silently). */
+ * A render comes back as one bytearray per array, filled in one pass over
+ * the pixels with the GIL released (the CSV's values, cr_pixel_csv_values);
+ * the Python side wraps each with numpy.frombuffer, without a copy. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 
@@ -18,6 +18,7 @@
 #include "cli/cli.h"
 #include "cpu/render_cpu.h"
 #include "io/info.h"
+#include "io/output.h"
 #include "io/raypath.h"
 #include "io/scene.h"
 #include "io/sysconfig.h"
@@ -110,44 +111,95 @@ static int cr_py_prepare(cr_py_job *j, const char *scene_text, Py_ssize_t scene_
 static char *render_kw[] = {"scene", "is_path", "name", "config", "width", "height",
                             "frame", "frames", NULL};
 
+/* The arrays of _render, by name: element size; filled by cr_py_fill. */
+enum { CR_A_RGB, CR_A_REDSHIFT, CR_A_OUTCOME, CR_A_STEPS, CR_A_ERR_MEAN, CR_A_ERR_STD,
+       CR_A_HIT_R, CR_A_HIT_PHI, CR_A_BOLO, CR_A_OBJECT, CR_A_N };
+static const struct {
+    const char *name;
+    size_t size;
+} cr_py_arrays[CR_A_N] = {{"rgb", 3},        {"redshift", 8}, {"outcome", 1},
+                          {"steps", 4},      {"err_mean", 8}, {"err_std", 8},
+                          {"hit_r", 8},      {"hit_phi", 8},  {"bolometric", 8},
+                          {"object", 2}};
+
+/* One pass from the pixels to the arrays, with the CSV's values
+ * (cr_pixel_csv_values: -1 where the CSV writes -1). */
+static void cr_py_fill(const cr_pixel *px, size_t n, char **a)
+{
+    size_t i;
+    for (i = 0; i < n; i++) {
+        const cr_pixel *q = &px[i];
+        cr_pixel_values v = cr_pixel_csv_values(q);
+        a[CR_A_RGB][3 * i] = (char)q->color.r;
+        a[CR_A_RGB][3 * i + 1] = (char)q->color.g;
+        a[CR_A_RGB][3 * i + 2] = (char)q->color.b;
+        ((double *)a[CR_A_REDSHIFT])[i] = v.redshift;
+        a[CR_A_OUTCOME][i] = (char)q->outcome;
+        ((uint32_t *)a[CR_A_STEPS])[i] = q->steps;
+        ((double *)a[CR_A_ERR_MEAN])[i] = q->err_mean;
+        ((double *)a[CR_A_ERR_STD])[i] = q->err_std;
+        ((double *)a[CR_A_HIT_R])[i] = v.hit_r;
+        ((double *)a[CR_A_HIT_PHI])[i] = v.hit_phi;
+        ((double *)a[CR_A_BOLO])[i] = v.bolometric;
+        ((int16_t *)a[CR_A_OBJECT])[i] = q->object;
+    }
+}
+
 /* _render(scene, is_path, name, config, width, height, frame, frames)
- * -> bytearray of width*height cr_pixel, row-major from the top-left. */
+ * -> {name: bytearray} of the arrays above, row-major from the top-left. */
 static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
 {
     const char *scene, *name, *cfg;
     Py_ssize_t scene_len, cfg_len;
-    int is_path;
-    long width, height, k, n;
+    int is_path, rc, k;
+    long width, height, fk, nf;
+    size_t n;
     cr_py_job j;
-    PyObject *buf;
+    cr_pixel *px;
+    char *ptr[CR_A_N];
+    PyObject *out = NULL;
     cr_err err;
-    int rc;
     (void)self;
     if (!PyArg_ParseTupleAndKeywords(args, kw, "s#pss#llll", render_kw, &scene, &scene_len,
-                                     &is_path, &name, &cfg, &cfg_len, &width, &height, &k, &n))
+                                     &is_path, &name, &cfg, &cfg_len, &width, &height, &fk, &nf))
         return NULL;
-    if (cr_py_prepare(&j, scene, scene_len, name, is_path, cfg, cfg_len, width, height, k, n))
+    if (cr_py_prepare(&j, scene, scene_len, name, is_path, cfg, cfg_len, width, height, fk, nf))
         return NULL;
-    buf = PyByteArray_FromStringAndSize(NULL, (Py_ssize_t)(sizeof(cr_pixel) * (size_t)width *
-                                                           (size_t)height));
-    if (!buf) {
-        cr_py_job_free(&j);
-        return NULL;
+    n = (size_t)width * (size_t)height;
+    px = malloc(n * sizeof *px);
+    out = PyDict_New();
+    if (!px || !out)
+        goto nomem;
+    for (k = 0; k < CR_A_N; k++) {
+        PyObject *b = PyByteArray_FromStringAndSize(NULL, (Py_ssize_t)(n * cr_py_arrays[k].size));
+        if (!b || PyDict_SetItemString(out, cr_py_arrays[k].name, b)) {
+            Py_XDECREF(b);
+            goto nomem;
+        }
+        ptr[k] = PyByteArray_AS_STRING(b);
+        Py_DECREF(b); /* the dict holds it */
     }
     err.msg[0] = '\0';
     {
-        cr_pixel *px = (cr_pixel *)PyByteArray_AS_STRING(buf);
         int threads = j.cfg.cpu_threads; /* 0: every core */
         Py_BEGIN_ALLOW_THREADS
         rc = cr_cpu_render(&j.f, threads, px, NULL, NULL, NULL, &err);
+        if (rc == 0)
+            cr_py_fill(px, n, ptr);
         Py_END_ALLOW_THREADS
     }
+    free(px);
     cr_py_job_free(&j);
     if (rc) {
-        Py_DECREF(buf);
+        Py_DECREF(out);
         return cr_py_value_error("", &err);
     }
-    return buf;
+    return out;
+nomem:
+    free(px);
+    cr_py_job_free(&j);
+    Py_XDECREF(out);
+    return PyErr_NoMemory();
 }
 
 static char *trace_kw[] = {"scene", "is_path", "name", "config", "width", "height",
@@ -194,25 +246,6 @@ static PyObject *cr_py_trace(PyObject *self, PyObject *args, PyObject *kw)
     return out;
 }
 
-/* Field offsets of cr_pixel for the NumPy view. */
-static PyObject *cr_py_pixel_layout(PyObject *self, PyObject *unused)
-{
-    (void)self;
-    (void)unused;
-    return Py_BuildValue("{s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n,s:n}", "itemsize",
-                         (Py_ssize_t)sizeof(cr_pixel), "redshift",
-                         (Py_ssize_t)offsetof(cr_pixel, redshift), "err_mean",
-                         (Py_ssize_t)offsetof(cr_pixel, err_mean), "err_std",
-                         (Py_ssize_t)offsetof(cr_pixel, err_std), "hit_r",
-                         (Py_ssize_t)offsetof(cr_pixel, hit_r), "hit_phi",
-                         (Py_ssize_t)offsetof(cr_pixel, hit_phi), "bolo",
-                         (Py_ssize_t)offsetof(cr_pixel, bolo), "steps",
-                         (Py_ssize_t)offsetof(cr_pixel, steps), "object",
-                         (Py_ssize_t)offsetof(cr_pixel, object), "outcome",
-                         (Py_ssize_t)offsetof(cr_pixel, outcome), "color",
-                         (Py_ssize_t)offsetof(cr_pixel, color));
-}
-
 /* Outcome names by code (the CSV's words), and the path columns. */
 static PyObject *cr_py_constants(PyObject *self, PyObject *unused)
 {
@@ -236,10 +269,9 @@ static PyObject *cr_py_constants(PyObject *self, PyObject *unused)
 
 static PyMethodDef cr_py_methods[] = {
     {"_render", (PyCFunction)(void (*)(void))cr_py_render, METH_VARARGS | METH_KEYWORDS,
-     "Render one frame; returns a bytearray of cr_pixel."},
+     "Render one frame; returns a dict of bytearrays (the arrays of render)."},
     {"_trace", (PyCFunction)(void (*)(void))cr_py_trace, METH_VARARGS | METH_KEYWORDS,
      "Trace one pixel's ray with its path."},
-    {"_pixel_layout", cr_py_pixel_layout, METH_NOARGS, "cr_pixel field offsets."},
     {"_constants", cr_py_constants, METH_NOARGS, "Outcome names, path columns, version."},
     {NULL, NULL, 0, NULL}};
 

@@ -10,6 +10,7 @@
 #include "atomic.h"
 #include "fsutil.h"
 #include "info.h"
+#include "output.h"
 #include "sysconfig.h"
 
 #ifndef CURRAY_HAVE_FITS
@@ -36,8 +37,8 @@ int cr_fits_available(void)
 }
 
 /* Quantities of the image extensions. */
-enum { CR_F_REDSHIFT, CR_F_HIT_R, CR_F_HIT_PHI, CR_F_OUTCOME, CR_F_STEPS, CR_F_ERR, CR_F_STD,
-       CR_F_N };
+enum { CR_F_REDSHIFT, CR_F_HIT_R, CR_F_HIT_PHI, CR_F_BOLO, CR_F_OUTCOME, CR_F_STEPS, CR_F_ERR,
+       CR_F_STD, CR_F_N };
 
 static const struct {
     const char *name, *unit, *comment;
@@ -45,26 +46,28 @@ static const struct {
     {"REDSHIFT", "", "frequency ratio nu_obs/nu_em; NaN: no source"},
     {"HIT_R", "M", "BL radius of the disc/sphere hit; NaN: none"},
     {"HIT_PHI", "rad", "BL azimuth of the hit in [0, 2 pi); NaN: none"},
+    {"BOLO", "", "g^4 F / F_max of a Keplerian disc hit; NaN: none"},
     {"OUTCOME", "", "what the ray reached: codes in OUTCOME0..6"},
     {"STEPS", "", "integrator steps of the pixel"},
     {"NULLERR", "", "mean of the ray's error monitor"},
     {"NULLSTD", "", "standard deviation of the error monitor"},
 };
 
-/* Value of quantity q at pixel p, as the CSV defines it, NaN where the CSV
- * writes -1 for "undefined". */
+/* Value of quantity q at pixel p, the CSV's (cr_pixel_csv_values), NaN
+ * where the CSV writes -1. */
 static double cr_fits_value(int q, const cr_pixel *p)
 {
-    int hit = p->outcome == CR_OUT_DISC || p->outcome == CR_OUT_SPHERE;
-    int source = !(p->outcome == CR_OUT_NONE || p->outcome == CR_OUT_ERROR ||
-                   p->outcome == CR_OUT_LIMIT);
+    cr_pixel_values v = cr_pixel_csv_values(p);
+    double x;
     switch (q) {
-    case CR_F_REDSHIFT: return source ? p->redshift : NAN;
-    case CR_F_HIT_R: return hit ? p->hit_r : NAN;
-    case CR_F_HIT_PHI: return hit ? p->hit_phi : NAN;
+    case CR_F_REDSHIFT: x = v.redshift; break;
+    case CR_F_HIT_R: x = v.hit_r; break;
+    case CR_F_HIT_PHI: x = v.hit_phi; break;
+    case CR_F_BOLO: x = v.bolometric; break;
     case CR_F_ERR: return p->err_mean;
     default: return p->err_std;
     }
+    return x == -1.0 ? NAN : x;
 }
 
 /* The frame's keywords on the current (primary) HDU. */

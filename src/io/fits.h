@@ -3,12 +3,15 @@
  *
  * Layout: an empty primary HDU carrying the frame's keywords (metric,
  * observer, field of view, integrator, units), then one image extension per
- * quantity, each width x height, EXTNAME and BUNIT set:
+ * quantity, each width x height, EXTNAME and BUNIT set, with the values the
+ * CSV has (cr_pixel_csv_values, output.h):
  *   REDSHIFT  float64  nu_obs / nu_em (the CSV's redshift; NaN where the CSV
  *                      has -1: no source reached)
  *   HIT_R     float64  BL radius of the disc or sphere hit, units of M (NaN
  *                      for other outcomes)
  *   HIT_PHI   float64  BL azimuth of the hit, rad in [0, 2 pi) (NaN likewise)
+ *   BOLO      float64  g^4 F / F_max of a Keplerian disc hit (the CSV's
+ *                      bolometric; NaN likewise)
  *   OUTCOME   uint8    the outcome code; keywords OUTCOME0..6 name the codes
  *   STEPS     uint32   integrator steps of the pixel (BZERO 2147483648)
  *   NULLERR   float64  mean error monitor along the ray (CSV err_mean)

@@ -69,6 +69,22 @@ cr_rgb cr_bolometric_color(const cr_pixel *p)
     return c;
 }
 
+cr_pixel_values cr_pixel_csv_values(const cr_pixel *q)
+{
+    cr_pixel_values v;
+    /* The ratio is meaningless where no source was reached. */
+    int undefined = q->outcome == CR_OUT_NONE || q->outcome == CR_OUT_ERROR ||
+                    q->outcome == CR_OUT_LIMIT || q->redshift != q->redshift;
+    /* where the ray hit the disc or a sphere */
+    int hit = q->outcome == CR_OUT_DISC || q->outcome == CR_OUT_SPHERE;
+    v.redshift = undefined ? -1.0 : q->redshift;
+    v.hit_r = hit ? q->hit_r : -1.0;
+    v.hit_phi = hit ? q->hit_phi : -1.0;
+    /* g^4 F / F_max on a Keplerian disc hit */
+    v.bolometric = q->outcome == CR_OUT_DISC && q->bolo >= 0.0 ? q->bolo : -1.0;
+    return v;
+}
+
 static int cr_frame_path(char *out, size_t n, const char *dir, const char *prefix, int k,
                          const char *ext, cr_err *err)
 {
@@ -173,9 +189,7 @@ int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, 
     for (int y = 0; y < h && !ferror(fp); y++) {
         for (int x = 0; x < w; x++) {
             const cr_pixel *q = &px[(size_t)y * w + x];
-            /* The ratio is meaningless where no source was reached. */
-            int undefined = q->outcome == CR_OUT_NONE || q->outcome == CR_OUT_ERROR ||
-                            q->outcome == CR_OUT_LIMIT || q->redshift != q->redshift;
+            cr_pixel_values v = cr_pixel_csv_values(q);
             char *p = line;
             p = cr_put_uint(p, (unsigned long)x);
             *p++ = ',';
@@ -189,7 +203,7 @@ int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, 
             *p++ = ',';
             p = cr_put_uint(p, q->steps);
             *p++ = ',';
-            p = cr_put_double(p, undefined ? -1.0 : q->redshift);
+            p = cr_put_double(p, v.redshift);
             *p++ = ',';
             p = cr_put_double(p, q->err_mean);
             *p++ = ',';
@@ -199,15 +213,12 @@ int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, 
             size_t ol = strlen(o);
             memcpy(p, o, ol);
             p += ol;
-            /* where the ray hit the disc or a sphere; -1 for other outcomes */
-            int hit = q->outcome == CR_OUT_DISC || q->outcome == CR_OUT_SPHERE;
             *p++ = ',';
-            p = cr_put_double(p, hit ? q->hit_r : -1.0);
+            p = cr_put_double(p, v.hit_r);
             *p++ = ',';
-            p = cr_put_double(p, hit ? q->hit_phi : -1.0);
-            /* g^4 F / F_max on a Keplerian disc hit, -1 otherwise */
+            p = cr_put_double(p, v.hit_phi);
             *p++ = ',';
-            p = cr_put_double(p, q->outcome == CR_OUT_DISC && q->bolo >= 0.0 ? q->bolo : -1.0);
+            p = cr_put_double(p, v.bolometric);
             *p++ = '\n';
             fwrite(line, 1, (size_t)(p - line), fp);
         }

@@ -24,6 +24,17 @@ cr_rgb cr_redshift_color(const cr_pixel *p);
  * black; black for every other pixel. */
 cr_rgb cr_bolometric_color(const cr_pixel *p);
 
+/* The CSV's floating-point values of one pixel, -1 where the CSV writes
+ * "undefined": redshift where no source was reached (outcome none, error or
+ * limit, or a NaN ratio); hit_r, hit_phi unless the ray hit the disc or a
+ * sphere; bolometric unless it hit a Keplerian disc (cr_pixel.bolo >= 0).
+ * The one definition of these columns for the CSV, the FITS file (fits.h)
+ * and the Python arrays. */
+typedef struct cr_pixel_values {
+    double redshift, hit_r, hit_phi, bolometric;
+} cr_pixel_values;
+cr_pixel_values cr_pixel_csv_values(const cr_pixel *p);
+
 /* c_<k>.png, r_<k>.png, d_<k>.csv in dir. */
 int cr_output_color_png(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err);
 int cr_output_redshift_png(const char *dir, int k, const cr_pixel *px, int w, int h,

@@ -136,7 +136,7 @@ def test_render_dict_equals_file(scenes):
 
 # ---- FITS -----------------------------------------------------------------
 
-@pytest.mark.parametrize("name", ["kn", "inf"])
+@pytest.mark.parametrize("name", ["kn", "inf", "kepler"])
 def test_fits(scenes, tmp_path, name):
     run_cli("-s", scenes[name], "-o", tmp_path, "-x", W, "-y", H, "-t", "df", "-f", 2)
     for k in range(2):
@@ -146,13 +146,15 @@ def test_fits(scenes, tmp_path, name):
         grid = lambda c, t=float: a[:, col[c]].astype(t).reshape(H, W)
         with fits.open(tmp_path / ("f_%d.fits" % k)) as hd:
             names = [h.name for h in hd]
-            assert names == ["PRIMARY", "REDSHIFT", "HIT_R", "HIT_PHI", "OUTCOME", "STEPS",
-                             "NULLERR", "NULLSTD"]
+            assert names == ["PRIMARY", "REDSHIFT", "HIT_R", "HIT_PHI", "BOLO", "OUTCOME",
+                             "STEPS", "NULLERR", "NULLSTD"]
             p = hd[0].header
             assert p["METRIC"] == "Kerr-Newman" and p["UNITS"] == "G = c = 1"
             assert p["FRAME"] == k and p["NFRAMES"] == 2 and p["INTEGRAT"] == "mino"
             assert p["TOLERANC"] == 1e-7
-            if name == "kn":
+            if name == "kepler":
+                assert p["BH_SPIN"] == 0.7 and p["OBS_R"] == 50
+            elif name == "kn":
                 assert p["BH_MASS"] == 1 and p["BH_SPIN"] == 0.9 and p["BH_CHRG"] == 0.3
                 assert p["OBS_INF"] is False and p["OBS_R"] == 40
                 assert abs(p["HFOV"] - 40) < 1e-12 and 0 < p["VFOV"] < 40
@@ -163,7 +165,8 @@ def test_fits(scenes, tmp_path, name):
             for o, word in enumerate(curray.OUTCOMES):
                 assert p["OUTCOME%d" % o] == word
             for ext, dtype in (("REDSHIFT", np.float64), ("HIT_R", np.float64),
-                               ("HIT_PHI", np.float64), ("OUTCOME", np.uint8),
+                               ("HIT_PHI", np.float64), ("BOLO", np.float64),
+                               ("OUTCOME", np.uint8),
                                ("STEPS", np.uint32), ("NULLERR", np.float64),
                                ("NULLSTD", np.float64)):
                 d = hd[ext].data
@@ -175,6 +178,7 @@ def test_fits(scenes, tmp_path, name):
             assert np.array_equal(up("REDSHIFT"), nan_for(grid("redshift")), equal_nan=True)
             assert np.array_equal(up("HIT_R"), nan_for(grid("hit_r")), equal_nan=True)
             assert np.array_equal(up("HIT_PHI"), nan_for(grid("hit_phi")), equal_nan=True)
+            assert np.array_equal(up("BOLO"), nan_for(grid("bolometric")), equal_nan=True)
             assert np.array_equal(up("STEPS"), grid("steps", np.int64))
             assert np.array_equal(up("NULLERR"), grid("err_mean"))
             assert np.array_equal(up("NULLSTD"), grid("err_std"))
