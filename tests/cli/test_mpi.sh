@@ -18,19 +18,12 @@ CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 CURRAY_MPI=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
 ROOT=$(cd "${3:-$(dirname "$0")/../..}" && pwd)
 command -v mpirun >/dev/null || { echo "test_mpi: no mpirun (Debian: openmpi-bin)" >&2; exit 1; }
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/curray-test-mpi.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 2
+. "$(dirname "$0")/lib.sh" test-mpi
 MPIRUN=(mpirun --oversubscribe -np 2)
 [ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
 # Open MPI's own allocations are not curray's: no leak check under ASan
 export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 
-passed=0 failed=0
-OUT="" RC=0
-ok() { echo "ok   $1"; passed=$((passed + 1)); }
-bad() { echo "FAIL $1: $2"; [ -n "$OUT" ] && echo "$OUT" | sed 's/^/       | /'; failed=$((failed + 1)); }
-has() { case "$OUT" in *"$1"*) return 0 ;; *) return 1 ;; esac; }
 # info.txt without times and backend, records sorted by frame
 untimed() {
     awk '/^Frame [0-9]+$/ { k = $2 } /^Finished / { next }
@@ -118,5 +111,4 @@ else
     bad "--resume after a dead rank" "rc $RC; $(cat diff6.txt)"
 fi
 
-echo "$passed passed, $failed failed"
-[ $failed = 0 ]
+finish

@@ -14,16 +14,7 @@ set -u
 CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 ROOT=$(cd "${2:-$(dirname "$0")/../..}" && pwd)
 [ -x "$CURRAY" ] || { echo "test_resume: no curray binary at $CURRAY" >&2; exit 2; }
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/curray-test-resume.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 2
-
-passed=0 failed=0
-OUT="" RC=0
-ok() { echo "ok   $1"; passed=$((passed + 1)); }
-bad() { echo "FAIL $1: $2"; [ -n "$OUT" ] && echo "$OUT" | sed 's/^/       | /'; failed=$((failed + 1)); }
-run() { OUT=$(timeout 120 "$CURRAY" "$@" </dev/null 2>&1); RC=$?; }
-has() { case "$OUT" in *"$1"*) return 0 ;; *) return 1 ;; esac; }
+. "$(dirname "$0")/lib.sh" test-resume
 untimed() { grep -vE '^(Started|Resumed) |^  (wall time|rays per second) ' "$1"; }
 # same_run A B: the frame files of 4 frames and the untimed info.txt agree
 same_run() {
@@ -123,31 +114,13 @@ fi
 # --- refusals ---------------------------------------------------------------
 sed 's/theta: 85 deg/theta: 80 deg/' scene.yml >changed.yml
 cp changed.yml scene2.yml
-run -s scene2.yml -o part -x 320 -y 240 -f 4 -t icrd --threads 1 -a --resume
-if [ $RC = 1 ] && has "--resume: part/info.txt is from another run" &&
-   cmp -s c3.before part/c_3.png; then
-    ok "--resume with a changed scene is refused"
-else
-    bad "--resume with a changed scene" "rc $RC"
-fi
-run -s scene.yml -o part -x 320 -y 200 -f 4 -t icrd --threads 1 -a --resume
-if [ $RC = 1 ] && has "is from another run"; then
-    ok "--resume with another size is refused"
-else
-    bad "--resume with another size" "rc $RC"
-fi
-run "${ARGS[@]}" -o empty --resume
-if [ $RC = 1 ] && has "--resume: no earlier run to resume in empty (no info.txt)"; then
-    ok "--resume with no earlier run is refused"
-else
-    bad "--resume with no earlier run" "rc $RC"
-fi
-run -s scene.yml -o part -x 320 -y 240 -f 4 -t crd --threads 1 -a --resume
-if [ $RC = 1 ] && has "--resume needs info.txt"; then
-    ok "--resume without output type i is refused"
-else
-    bad "--resume without i" "rc $RC"
-fi
-
-echo "$passed passed, $failed failed"
-[ $failed = 0 ]
+refused "--resume with a changed scene is refused" "--resume: part/info.txt is from another run" \
+    -s scene2.yml -o part -x 320 -y 240 -f 4 -t icrd --threads 1 -a --resume
+cmp -s c3.before part/c_3.png && ok "the refused run changed nothing" || bad "refused run" "c_3.png changed"
+refused "--resume with another size is refused" "is from another run" \
+    -s scene.yml -o part -x 320 -y 200 -f 4 -t icrd --threads 1 -a --resume
+refused "--resume with no earlier run is refused" \
+    "--resume: no earlier run to resume in empty (no info.txt)" "${ARGS[@]}" -o empty --resume
+refused "--resume without output type i is refused" "--resume needs info.txt" \
+    -s scene.yml -o part -x 320 -y 240 -f 4 -t crd --threads 1 -a --resume
+finish

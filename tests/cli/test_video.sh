@@ -18,16 +18,7 @@ CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 PROBE=$2
 [ "$PROBE" = none ] || PROBE=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
 ROOT=$(cd "${3:-$(dirname "$0")/../..}" && pwd)
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/curray-test-video.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 2
-
-passed=0 failed=0
-OUT="" RC=0
-ok() { echo "ok   $1"; passed=$((passed + 1)); }
-bad() { echo "FAIL $1: $2"; [ -n "$OUT" ] && echo "$OUT" | sed 's/^/       | /'; failed=$((failed + 1)); }
-run() { OUT=$(timeout 120 "$CURRAY" "$@" </dev/null 2>&1); RC=$?; }
-has() { case "$OUT" in *"$1"*) return 0 ;; *) return 1 ;; esac; }
+. "$(dirname "$0")/lib.sh" test-video
 
 cp "$ROOT/scenes/listing-7.1.6-sphere-orbit.yml" scene.yml 2>/dev/null || cp "$ROOT/scenes/demo.yml" scene.yml
 
@@ -40,8 +31,7 @@ if [ "$PROBE" = none ]; then
     else
         bad "-t v without FFmpeg" "rc $RC"
     fi
-    echo "$passed passed, $failed failed"
-    [ $failed = 0 ]
+    finish
     exit
 fi
 
@@ -101,6 +91,4 @@ else
     OUT=$("$PROBE" d/c.mp4 d/c_0.png 2>&1)
     bad "default fps" "rc $RC"
 fi
-
-echo "$passed passed, $failed failed"
-[ $failed = 0 ]
+finish
