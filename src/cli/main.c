@@ -1216,7 +1216,7 @@ int main(int argc, char **argv)
 {
     cr_run run;
     cr_err err;
-    int rc;
+    int rc, ready = 0;
 
     memset(&run, 0, sizeof run);
     cr_mpi_init(&argc, &argv, &run.mpi_rank, &run.mpi_size);
@@ -1225,7 +1225,8 @@ int main(int argc, char **argv)
     /* A reader that goes away (curray ... | head) must not kill a render
      * half-way: console writes then just fail. */
     signal(SIGPIPE, SIG_IGN);
-    if (cr_command_line(&run, &rc) == 0 && cr_mpi_ready(&run, cr_prepare(&run, &rc) == 0, &rc)) {
+    if (cr_command_line(&run, &rc) == 0 &&
+        (ready = cr_mpi_ready(&run, cr_prepare(&run, &rc) == 0, &rc)) != 0) {
         if (run.cli.trace) {
             if (run.mpi_rank == 0)
                 rc = cr_trace_paths(&run);
@@ -1257,7 +1258,7 @@ int main(int argc, char **argv)
         cr_log_close(&run.log);
     /* rank 0 stopped before every rank was told to stop (Ctrl-C, a rank
      * died): end them all; the finished frames are on disk */
-    if (run.mpi_size > 1 && run.mpi_rank == 0 && run.stats && !run.mpi_served)
+    if (run.mpi_size > 1 && run.mpi_rank == 0 && ready && !run.cli.trace && !run.mpi_served)
         cr_mpi_abort(rc);
     cr_mpi_finalize();
     return rc;
