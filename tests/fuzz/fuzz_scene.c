@@ -78,12 +78,23 @@ static void check_frame(const cr_frame *f, int n_spheres)
         CHECK(f->observer.vextent > 0.0 && isfinite(f->observer.vextent));
         CHECK(f->observer.hfov == 0.0 && f->observer.vfov == 0.0);
         CHECK(f->observer.pitch == 0.0 && f->observer.yaw == 0.0);
+        CHECK(f->observer.motion == CR_MOTION_STATIC &&
+              f->observer.projection == CR_PROJ_RECTILINEAR);
         CHECK(f->integrator != CR_INTEG_RK4);
         CHECK(isfinite(f->r_max) || f->r_max == INFINITY);
     } else {
         CHECK(isfinite(f->observer.r) && f->observer.r > 0.0);
-        CHECK(f->observer.hfov > 0.0 && f->observer.hfov < CR_PI);
-        CHECK(f->observer.vfov > 0.0 && f->observer.vfov < CR_PI);
+        /* the largest field of view by projection (issue 13): below 180
+         * deg on the flat screen, up to 360 deg for the fisheye, 360 x 180
+         * for the panorama */
+        double fov_max = f->observer.projection == CR_PROJ_RECTILINEAR ? CR_PI
+                                                                       : CR_TWO_PI * (1 + 1e-12);
+        CHECK(f->observer.hfov > 0.0 && f->observer.hfov < fov_max);
+        CHECK(f->observer.vfov > 0.0 && f->observer.vfov < fov_max);
+        if (f->observer.motion != CR_MOTION_VELOCITY)
+            CHECK(f->observer.v[0] == 0.0 && f->observer.v[1] == 0.0 && f->observer.v[2] == 0.0);
+        CHECK(f->observer.v[0] * f->observer.v[0] + f->observer.v[1] * f->observer.v[1] +
+                  f->observer.v[2] * f->observer.v[2] < 1.0);
         CHECK(isfinite(f->r_max));
         for (i = 0; i < 16; i++)
             CHECK(isfinite(f->tetrad[i / 4][i % 4]));
