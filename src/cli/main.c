@@ -159,19 +159,19 @@ static int cr_cancelled(void *ctx)
     return cr_interrupt_requested(&w->run->intr);
 }
 
-/* Remove the files of frame k already written, types among "crdb": a frame
+/* Remove the files of frame k already written, types among "crdbf": a frame
  * that fails part-way (a full disk) leaves no file. */
 static void cr_remove_frame_files(const cr_run *run, int k, const char *types)
 {
     char name[64], path[4096];
     for (; *types; types++) {
-        snprintf(name, sizeof name, "%c_%d.%s", *types, k, *types == 'd' ? "csv" : *types == 'f' ? "fits" : "png");
-        if (cr_path_join(path, sizeof path, run->cli.output_dir, name) == 0)
+        if (cr_frame_file_name(*types, k, name, sizeof name) == 0 &&
+            cr_path_join(path, sizeof path, run->cli.output_dir, name) == 0)
             unlink(path);
     }
 }
 
-/* Write frame k's file of type t (c, r, d or b), announced to the Ctrl-C
+/* Write frame k's file of type t (c, r, d, b or f), announced to the Ctrl-C
  * handling (interrupt.h). */
 static int cr_write_frame_file(cr_worker *w, char t, int k, const cr_pixel *px, int width,
                                int height, cr_err *err)
@@ -180,7 +180,8 @@ static int cr_write_frame_file(cr_worker *w, char t, int k, const cr_pixel *px, 
     const char *dir = run->cli.output_dir;
     char name[64];
     int rc;
-    snprintf(name, sizeof name, "%c_%d.%s", t, k, t == 'd' ? "csv" : t == 'f' ? "fits" : "png");
+    if (cr_frame_file_name(t, k, name, sizeof name) != 0)
+        return cr_err_set(err, "no frame file for output type '%c'", t);
     if (cr_interrupt_file_begin(&run->intr, w->slot, name))
         return cr_err_set(err, "interrupted");
     if (t == 'c')
