@@ -363,3 +363,14 @@ def test_value_error_names_key_and_line():
     with pytest.raises(ValueError, match=r"^scene file \(scene dict\): observer.hfov"):
         curray.render({"metric": {"m": 1, "a": 0, "q": 0},
                        "observer": {"r": 30, "theta": 90, "phi": 0, "hfov": 400}}, 8, 8)
+
+
+def test_cli_trace_bad_input(scenes, tmp_path):
+    for arg, msg in (("8,0", "curray: --trace: pixel 8,0 is outside the 8x8 frame"),
+                     ("1", "curray: --trace: expected a pixel I,J (column, row from 0), got '1'"),
+                     ("1,-2", "expected a pixel I,J"), ("a,b", "expected a pixel I,J"),
+                     ("1,2,3", "expected a pixel I,J")):
+        r = run_cli("-s", scenes["kn"], "-o", tmp_path / "o", "-x", 8, "-y", 8, "--trace", arg,
+                    ok=False)
+        assert r.returncode == 2 and msg in r.stderr, (arg, r.stderr)
+    assert not (tmp_path / "o").exists()  # refused before anything is written
