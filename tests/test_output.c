@@ -865,7 +865,8 @@ static void test_info(void **state)
     st[0].frame = 0;
     st[1].frame = 1;
 
-    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 640, 480, 3, "icrd", "9.8.7"};
+    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 640, 480, 3, "icrd", "9.8.7",
+                       NULL, NULL, NULL};
     assert_int_equal(cr_info_write(f->dir, &run, &s, &cfg, st, 2, &err), 0);
     join(path, f, "info.txt");
     char *t = read_all(path, NULL);
@@ -1100,7 +1101,7 @@ static void test_info_appends(void **state)
     char path[4096], want[128], *prev = NULL;
     size_t prev_len = 0, first_rec = 0, max_rec = 0;
     int temps, kernel_counts = wchar_now() >= 0;
-    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 1, 1, N, "i", "9.8.7"};
+    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 1, 1, N, "i", "9.8.7", NULL, NULL, NULL};
     cr_sysconfig cfg;
 
     assert_non_null(st);
@@ -1181,6 +1182,49 @@ static void test_info_appends(void **state)
 
 /* A record that does not fit (here: the file size limit, as on a full disk)
  * leaves info.txt exactly as it was, and the next record goes on from there. */
+/* issue 14: the run hash, stale files and a resumed run's Started/Resumed
+ * lines in the header; cr_info_resume writes the kept records in their
+ * order with "Finished" counted again, and the next record continues the
+ * count. */
+static void test_info_resume(void **state)
+{
+    fixture *f = *state;
+    cr_run_info run = {"s.yml", NULL, "cpu", 2, 1, 4, "i", "9.8.7",
+                       "0123456789abcdef", "c_<k>.png for k = 4-7", "2026-01-02 03:04:05 +0000"};
+    char *bodies[4] = {NULL, "Frame 1\n  rays 2\n", NULL, "Frame 3\n  rays 2\n"};
+    int order[2] = {3, 1};
+    cr_frame_stats st;
+    cr_pixel px[2];
+    cr_sysconfig cfg;
+    cr_info info;
+    cr_err err;
+    char path[4096], *t;
+    size_t len;
+
+    cr_sysconfig_defaults(&cfg);
+    memset(px, 0, sizeof px);
+    join(path, f, "info.txt");
+    assert_int_equal(cr_info_begin(&info, f->dir, &run, NULL, &cfg, &err), 0);
+    assert_int_equal(cr_info_resume(&info, bodies, order, 0, &err), 0);
+    assert_false(exists(path)); /* nothing kept: nothing written yet */
+    assert_int_equal(cr_info_resume(&info, bodies, order, 2, &err), 0);
+    assert_int_equal(info.n_done, 2);
+    cr_frame_stats_compute(px, 2, 0.5, &st);
+    st.frame = 0;
+    assert_int_equal(cr_info_add_frame(&info, &st, &err), 0);
+    assert_int_equal(cr_info_end(&info, &err), 0);
+    t = read_all(path, &len);
+    assert_non_null(strstr(t, "\nStarted                  2026-01-02 03:04:05 +0000\nResumed  "));
+    assert_non_null(strstr(t, "\n  run hash               0123456789abcdef\n"));
+    assert_non_null(strstr(t, "\n  stale files            c_<k>.png for k = 4-7 (from an earlier "
+                              "run; not overwritten, not deleted)\n"));
+    assert_non_null(strstr(t, "\nFrame 3\n  rays 2\nFinished 1 of 4 frames (run incomplete)\n\n"
+                              "Frame 1\n  rays 2\nFinished 2 of 4 frames (run incomplete)\n\n"
+                              "Frame 0\n"));
+    assert_non_null(strstr(t, "Finished 3 of 4 frames (run incomplete)\n\n"));
+    free(t);
+}
+
 static void test_info_append_fails(void **state)
 {
     fixture *f = *state;
@@ -1191,7 +1235,7 @@ static void test_info_append_fails(void **state)
     char path[4096], *before, *t;
     size_t before_len, len;
     struct rlimit old, lim;
-    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 2, 1, 5, "i", "9.8.7"};
+    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 2, 1, 5, "i", "9.8.7", NULL, NULL, NULL};
 
     memset(px, 0, sizeof px);
     px[0].outcome = CR_OUT_HORIZON;
@@ -1490,6 +1534,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_info_at_infinity, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_appends, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_append_fails, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_info_resume, setup, teardown),
         cmocka_unit_test_setup_teardown(test_mkdir_p, setup, teardown),
         cmocka_unit_test(test_path_join),
         cmocka_unit_test_setup_teardown(test_log, setup, teardown),
