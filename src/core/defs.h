@@ -228,7 +228,8 @@ typedef struct cr_frame {
                              image has no boundary or the observer is at
                              infinity, else 1 / r_max as for RK4 */
     int obs_at_inf;       /* observer.r is +INFINITY */
-    double obs_sqrt_mgtt; /* sqrt(-g_tt) at the observer */
+    double obs_sqrt_mgtt; /* sqrt(-g_tt) at the static observer; 1/u^t of a
+                             moving one (camera.h) */
     double tan_half_h, tan_half_v; /* screen half-extents (observer.h):
                              tan(fov/2) rectilinear, fov/2 fisheye, pi and
                              pi/2 equirectangular */
