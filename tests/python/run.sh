@@ -10,7 +10,7 @@
 # Anything missing is a FAILURE with the reason, never a silent pass.
 set -euo pipefail
 build=$(cd "$1" && pwd)
-bin=$2
+bin=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
 src=$(cd "$(dirname "$0")/../.." && pwd)
 py=${CURRAY_PYTHON:-}
 if [ -z "$py" ]; then
