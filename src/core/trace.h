@@ -602,6 +602,8 @@ CR_HD static inline double cr_wrap_2pi(double phi)
  * cr_ray_state_at, the step's end exact), and a located disc or sphere hit as
  * the last point. The host owns the buffer; the core never allocates. With
  * ray->path NULL (every image) the loop only tests the pointer once per step.
+ * A ray that leaves to a sky at infinity (a sky image without a boundary)
+ * ends its path at its last finite point (r large, w > 0).
  * Columns of a point (lengths in M, angles in rad):
  *   CR_P_LAM   the ray's parameter from the observer: the affine parameter of
  *              the backward tangent under rk4, Mino time tau (d lambda =
@@ -803,6 +805,8 @@ CR_HD static inline void cr_path_step(const cr_frame *f, const cr_ray *ray, cr_p
         double s0 = s_end * (k - 1) / path->sub, s1 = s_end * k / path->sub, dt;
         cr_ray_state_at(ray, s1, ys);
         dt = cr_path_eval(f, ray, ys, p);
+        if (!(dt == dt))
+            break; /* w <= 0: a ray leaving to the sky at infinity has no finite point */
         if (mino) /* from infinity the path starts at the first finite point, t = 0 */
             p[CR_P_T] =
                 path->started ? path->t + cr_path_dt(f, ray, s0, s1, path->dt, dt) : 0.0;

@@ -375,3 +375,17 @@ def test_cli_trace_bad_input(scenes, tmp_path):
                     ok=False)
         assert r.returncode == 2 and msg in r.stderr, (arg, r.stderr)
     assert not (tmp_path / "o").exists()  # refused before anything is written
+
+
+def test_trace_to_sky_at_infinity(tmp_path):
+    """A sky image without a boundary: rays leave to r = inf; the path ends at
+    its last finite point, every value finite, still null, moving outward."""
+    scene = {"metric": {"m": 1, "a": 0.5, "q": 0},
+             "observer": {"r": 30, "theta": 80, "phi": 0, "hfov": 60},
+             "skymap": {"image": os.path.join(SRC, "scenes", "sky.png")}}
+    for ij in ((0, 0), (5, 20), (31, 23)):
+        p = curray.trace(scene, pixel=ij, width=W, height=H)
+        assert p.outcome == "sky"
+        assert np.all(np.isfinite(np.vstack([p[c] for c in curray.PATH_COLUMNS])))
+        assert p.r[-1] > 100 and p.ur[-1] > 0 and np.all(np.diff(p.t) < 0)
+        assert null_residual(p, 0.5, 0.0).max() < NULL_TOL["mino"]
