@@ -35,7 +35,11 @@
  *   pixel x = (2 pi - phi_s) W / 2 pi, y = theta_s H / pi (1e-9 px);
  * - every projection inverts: cr_camera_dir_pixel(cr_camera_pixel_dir(i, j))
  *   = (i, j) within 1e-9 px at random rotations; the fisheye is
- *   equidistant;
+ *   equidistant; a direction outside the fisheye's image circle maps to no
+ *   pixel;
+ * - the fisheye's picture is its image circle: pixels outside it are
+ *   "outside", untraced; pixels inside are traced at the equidistant angle
+ *   (test_fisheye_image_circle);
  * - the scene keys (motion names, a velocity with animated components,
  *   retrograde, projection) and every refusal (|v| >= 1, orbit where none
  *   exists or off the equator, static inside the ergosphere, unknown
@@ -510,6 +514,12 @@ static void test_projections_invert(void **state)
                 if (proj == CR_PROJ_FISHEYE && sx * sx + sy * sy >= CR_PI * CR_PI)
                     continue; /* beyond 180 deg: not one-to-one */
                 cr_camera_pixel_dir(&f, i, j, n);
+                if (proj == CR_PROJ_FISHEYE &&
+                    hypot(sx, sy) > 0.5 * fmax(f.observer.hfov, f.observer.vfov)) {
+                    /* a direction beyond the image circle is not in the picture */
+                    assert_int_equal(cr_camera_dir_pixel(&f, n, &i2, &j2), 0);
+                    continue;
+                }
                 assert_true(fabs(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0) < 1e-14);
                 assert_int_equal(cr_camera_dir_pixel(&f, n, &i2, &j2), 1);
                 worst = fmax(worst, fmax(fabs(i2 - i), fabs(j2 - j)));
@@ -541,6 +551,81 @@ static void test_fisheye_edges(void **state)
     cr_camera_pixel_dir(&f, 20, 10, n);
     assert_true(fabs(acos(-n[0]) - CR_PI * 20.0 / 21.0) < 1e-12);
     assert_true(n[2] > 0.0 && fabs(n[1]) < 1e-15); /* turned through +phi */
+}
+
+/* The fisheye's picture is its image circle (camera.h cr_camera_in_image):
+ * every pixel of a traced image whose centre lies farther from the image
+ * centre than half the longer side (the circle of angular radius
+ * max(hfov, vfov)/2 with square pixels; written here in pixels, not through
+ * the screen coordinates of camera.h) has outcome "outside" and the values
+ * of an untraced pixel; every other pixel is traced, and looks at the angle
+ * from forward that the equidistant formula gives, (distance from the centre
+ * in px) x hfov / W, within 1e-9 rad. Pixels within 1e-9 px of the circle
+ * are exempt. Rectilinear and equirectangular images have no point outside. */
+static void fisheye_circle_case(double hfov, int w, int h, int samples)
+{
+    cr_frame f;
+    double R_px = 0.5 * (w > h ? w : h), worst = 0.0;
+    long n_out = 0, n_in = 0, n_edge = 0;
+    int i, j;
+    obs_frame(&f, 0.0, 0.0, 10.0, 0.5 * CR_PI, CR_MOTION_ZAMO, NULL, CR_PROJ_FISHEYE,
+              hfov * DEG, w, h);
+    f.samples = samples;
+    for (j = 0; j < h; j++)
+        for (i = 0; i < w; i++) {
+            double d = hypot(i + 0.5 - 0.5 * w, j + 0.5 - 0.5 * h);
+            cr_pixel px = cr_trace_pixel(&f, i, j);
+            if (fabs(d - R_px) < 1e-9) {
+                n_edge++;
+                continue;
+            }
+            if (d > R_px) {
+                /* with samples > 1 the colour is the mean of the sub-rays, and
+                 * steps their sum: black and 0 where every sub-ray (at most
+                 * sqrt(2)/2 px from the centre) is outside too */
+                int all_out = samples < 2 || d > R_px + 0.75;
+                n_out++;
+                if (px.outcome != CR_OUT_OUTSIDE || px.redshift != -1.0 || px.hit_r != -1.0 ||
+                    px.hit_phi != -1.0 || px.bolo != -1.0 || px.object != -1 ||
+                    (all_out && (px.steps != 0 || px.color.r || px.color.g || px.color.b)))
+                    fail_msg("fisheye %g deg %dx%d: pixel (%d,%d) %.3f px from the centre "
+                             "(circle %.1f px): outcome %d steps %u redshift %g", hfov, w, h, i,
+                             j, d, R_px, px.outcome, px.steps, px.redshift);
+            } else {
+                double n[3], c, want = d * hfov * DEG / w;
+                n_in++;
+                if (px.outcome == CR_OUT_OUTSIDE || px.outcome == CR_OUT_NONE ||
+                    px.steps == 0)
+                    fail_msg("fisheye %g deg %dx%d: pixel (%d,%d) inside the circle not "
+                             "traced (outcome %d)", hfov, w, h, i, j, px.outcome);
+                cr_camera_pixel_dir(&f, i, j, n);
+                c = n[0] * f.cam[0][0] + n[1] * f.cam[0][1] + n[2] * f.cam[0][2];
+                worst = fmax(worst, fabs(acos(fmax(-1.0, fmin(1.0, c))) - want));
+            }
+        }
+    print_message("fisheye %g deg, %dx%d, %d x %d samples: %ld pixels outside the circle of "
+                  "%.1f px (all 'outside', untraced), %ld inside (all traced), %ld on it; "
+                  "angle from forward vs equidistant: %.2e rad (tol 1e-9)\n",
+                  hfov, w, h, samples, samples, n_out, R_px, n_in, n_edge, worst);
+    assert_true(n_out > 0 && n_in > 0);
+    assert_true(worst <= 1e-9);
+}
+
+static void test_fisheye_image_circle(void **state)
+{
+    cr_frame f;
+    int proj, i, j;
+    (void)state;
+    fisheye_circle_case(360.0, 41, 41, 1); /* beyond 180 deg in the corners */
+    fisheye_circle_case(360.0, 40, 40, 3); /* even size: no pixel centre forward */
+    fisheye_circle_case(200.0, 48, 32, 1); /* circle cut by the top and bottom */
+    fisheye_circle_case(200.0, 30, 30, 1);
+    for (proj = CR_PROJ_RECTILINEAR; proj <= CR_PROJ_EQUIRECT; proj += CR_PROJ_EQUIRECT) {
+        obs_frame(&f, 0.9, 0.0, 10.0, 1.2, CR_MOTION_ZAMO, NULL, proj, 170.0 * DEG, 33, 17);
+        for (j = 0; j <= 4 * 17; j++)
+            for (i = 0; i <= 4 * 33; i++) /* pixel centres and the image's own corners */
+                assert_int_equal(cr_camera_in_image(&f, 0.25 * i - 0.5, 0.25 * j - 0.5), 1);
+    }
 }
 
 /* ---- scene keys ------------------------------------------------------------ */
@@ -665,6 +750,7 @@ int main(void)
         cmocka_unit_test(test_equirect_is_skymap_layout),
         cmocka_unit_test(test_projections_invert),
         cmocka_unit_test(test_fisheye_edges),
+        cmocka_unit_test(test_fisheye_image_circle),
         cmocka_unit_test(test_scene_keys),
         cmocka_unit_test(test_scene_errors),
     };

@@ -792,7 +792,31 @@ static void test_stats(void **state)
     assert_string_equal(cr_outcome_name(CR_OUT_SKY), "sky");
     assert_string_equal(cr_outcome_name(CR_OUT_ERROR), "error");
     assert_string_equal(cr_outcome_name(CR_OUT_LIMIT), "limit");
+    assert_string_equal(cr_outcome_name(CR_OUT_OUTSIDE), "outside");
     assert_string_equal(cr_outcome_name(99), "unknown");
+
+    /* a fisheye pixel outside the image circle: counted, but not a ray; the
+     * CSV's (and FITS's, Python's) values are all undefined */
+    {
+        cr_pixel q[2];
+        cr_pixel_values v;
+        cr_rgb c;
+        memset(q, 0, sizeof q);
+        q[0].outcome = CR_OUT_SKY;
+        q[0].steps = 7;
+        q[1].outcome = CR_OUT_OUTSIDE;
+        q[1].redshift = q[1].hit_r = q[1].hit_phi = q[1].bolo = -1.0;
+        cr_frame_stats_compute(q, 2, 1.0, &st);
+        assert_int_equal(st.rays, 1);
+        assert_int_equal(st.steps, 7);
+        assert_int_equal(st.counts[CR_OUT_OUTSIDE], 1);
+        q[1].redshift = 0.5; /* whatever it holds, the CSV says undefined */
+        v = cr_pixel_csv_values(&q[1]);
+        assert_true(v.redshift == -1.0 && v.hit_r == -1.0 && v.hit_phi == -1.0 &&
+                    v.bolometric == -1.0);
+        c = cr_redshift_color(&q[1]);
+        assert_true(c.r == 0 && c.g == 0 && c.b == 0);
+    }
 }
 
 static void test_info(void **state)
@@ -932,6 +956,16 @@ static void test_info(void **state)
     assert_int_equal(cr_info_write(f->dir, &run, NULL, NULL, st, 2, &err), 0);
     t = read_all(path, NULL);
     assert_non_null(strstr(t, "Finished 2 of 2 frames\n"));
+    free(t);
+
+    /* fisheye pixels outside the image circle get their own count, only when
+     * there are some */
+    st[1].counts[CR_OUT_OUTSIDE] = 5;
+    assert_int_equal(cr_info_write(f->dir, &run, NULL, NULL, st, 2, &err), 0);
+    t = read_all(path, NULL);
+    assert_non_null(
+        strstr(t, "pixels                 horizon 1, disc 1, sphere 0, sky 2, error 0, limit 0, "
+                  "outside the image 5\n"));
     free(t);
     assert_int_equal(count_entries(f->dir, &temps), 1);
     assert_int_equal(temps, 0);

@@ -139,6 +139,34 @@ CR_HD static inline void cr_camera_screen(const cr_frame *f, double i, double j,
     *sy = (1.0 - 2.0 * (j + 0.5) / f->height) * f->tan_half_v;
 }
 
+/* Angular radius (rad) of a fisheye's image circle: max(hfov, vfov) / 2,
+ * at most pi (the validated fovs are <= 360 deg). With square pixels
+ * (vfov = hfov H / W) the circle's diameter is the image's longer side, so
+ * the stated fields of view stay true along both centre lines; on a square
+ * image it is the inscribed circle. */
+CR_HD static inline double cr_camera_fisheye_radius(const cr_frame *f)
+{
+    return fmin(fmax(f->tan_half_h, f->tan_half_v), CR_PI);
+}
+
+/* Whether image point (i, j) (pixel units of cr_camera_screen) is in the
+ * picture: always, except under the fisheye, whose picture is its image
+ * circle: the points at most cr_camera_fisheye_radius from the forward
+ * direction (the screen radius |(sx, sy)| is that angle). A point outside
+ * it (a corner, or beyond 180 deg, where directions would repeat) is not
+ * traced: cr_trace_point gives it CR_OUT_OUTSIDE. The rectilinear screen
+ * (hfov <= 170 deg) and the equirectangular sphere show a distinct
+ * direction at every point, so they have no such points. */
+CR_HD static inline int cr_camera_in_image(const cr_frame *f, double i, double j)
+{
+    double sx, sy, R;
+    if (f->obs_at_inf || f->observer.projection != CR_PROJ_FISHEYE)
+        return 1;
+    cr_camera_screen(f, i, j, &sx, &sy);
+    R = cr_camera_fisheye_radius(f);
+    return sx * sx + sy * sy <= R * R;
+}
+
 /* Unit direction, in the observer's local (e_r, e_th, e_ph) basis, in which
  * pixel (i, j) looks (finite observers), under the frame's projection. */
 CR_HD static inline void cr_camera_pixel_dir(const cr_frame *f, double i, double j,
@@ -164,7 +192,9 @@ CR_HD static inline void cr_camera_pixel_dir(const cr_frame *f, double i, double
 
 /* The inverse of cr_camera_pixel_dir: the fractional pixel (i, j) in which
  * the local direction n (any length > 0) is seen. Returns 0 where the
- * projection does not show n (cr_projection_screen), else 1. */
+ * projection does not show n (cr_projection_screen; for the fisheye also a
+ * direction farther from forward than cr_camera_fisheye_radius, outside the
+ * image circle), else 1. */
 CR_HD static inline int cr_camera_dir_pixel(const cr_frame *f, const double n[3], double *i,
                                             double *j)
 {
@@ -173,6 +203,9 @@ CR_HD static inline int cr_camera_dir_pixel(const cr_frame *f, const double n[3]
     for (k = 0; k < 3; k++)
         c[k] = n[0] * f->cam[k][0] + n[1] * f->cam[k][1] + n[2] * f->cam[k][2];
     if (!cr_projection_screen(f->observer.projection, c, &sx, &sy))
+        return 0;
+    if (f->observer.projection == CR_PROJ_FISHEYE &&
+        sx * sx + sy * sy > cr_camera_fisheye_radius(f) * cr_camera_fisheye_radius(f))
         return 0;
     *i = 0.5 * (sx / f->tan_half_h + 1.0) * f->width - 0.5;
     *j = 0.5 * (1.0 - sy / f->tan_half_v) * f->height - 0.5;

@@ -176,7 +176,9 @@ typedef enum cr_outcome {
     CR_OUT_ERROR = 5,   /* numerical failure (non-finite state) */
     CR_OUT_LIMIT = 6,   /* step or turn limit reached (e.g. photon-sphere orbit);
                            painted in limit_color */
-    CR_OUT_COUNT_ = 7
+    CR_OUT_OUTSIDE = 7, /* outside the picture: a fisheye pixel beyond its image
+                           circle (cr_camera_in_image); not traced, black */
+    CR_OUT_COUNT_ = 8
 } cr_outcome;
 
 /* The integrator that traces the rays (raytracer.integrator).

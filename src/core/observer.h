@@ -39,7 +39,10 @@
  *   rectilinear:     hx = tan(hfov/2);  n ~ F + sx R + sy U (normalised);
  *   fisheye:         hx = hfov/2 (equidistant: the angle from F is the
  *                    distance from the image centre), rho = |(sx, sy)|,
- *                    n = cos(rho) F + sin(rho) (sx R + sy U) / rho;
+ *                    n = cos(rho) F + sin(rho) (sx R + sy U) / rho; the
+ *                    picture is the image circle rho <= max(hx, hy) (<= pi),
+ *                    points outside it are not traced (camera.h,
+ *                    cr_camera_in_image);
  *   equirectangular: hx = pi, hy = pi/2; longitude sx, latitude sy,
  *                    n = cos(sy) (cos(sx) F + sin(sx) R) + sin(sy) U.
  * cr_projection_screen is the inverse (tests/test_observer.c).

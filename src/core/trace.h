@@ -978,13 +978,30 @@ CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, co
 
 /* Trace the one ray through image point (x, y) of frame f, in pixel units of
  * cr_camera_screen / cr_camera_pixel_dir: (i, j) is the centre of pixel
- * (i, j) (those functions add 0.5). */
+ * (i, j) (those functions add 0.5). A point outside the picture
+ * (cr_camera_in_image: beyond a fisheye's image circle) is not traced: its
+ * pixel has outcome CR_OUT_OUTSIDE, colour black, steps 0, redshift, hit_r,
+ * hit_phi and bolo -1, object -1, err_mean = err_std = 0, and an empty path. */
 CR_HD static inline cr_pixel cr_trace_point_path(const cr_frame *f, double x, double y,
                                                 cr_path *path)
 {
     double n[3], yb[CR_NY];
     cr_geo g;
     cr_ray ray;
+    if (!cr_camera_in_image(f, x, y)) {
+        cr_pixel px;
+        px.redshift = px.hit_r = px.hit_phi = px.bolo = -1.0;
+        px.err_mean = px.err_std = 0.0;
+        px.steps = 0;
+        px.object = -1;
+        px.outcome = CR_OUT_OUTSIDE;
+        px.color = cr_rgb_make(0, 0, 0);
+        if (path) {
+            path->n = 0;
+            path->started = 0;
+        }
+        return px;
+    }
     if (f->obs_at_inf) {
         double alpha, beta;
         cr_camera_screen(f, x, y, &alpha, &beta);

@@ -12,7 +12,7 @@
  *   HIT_PHI   float64  BL azimuth of the hit, rad in [0, 2 pi) (NaN likewise)
  *   BOLO      float64  g^4 F / F_max of a Keplerian disc hit (the CSV's
  *                      bolometric; NaN likewise)
- *   OUTCOME   uint8    the outcome code; keywords OUTCOME0..6 name the codes
+ *   OUTCOME   uint8    the outcome code; keywords OUTCOME0..7 name the codes
  *   STEPS     uint32   integrator steps of the pixel (BZERO 2147483648)
  *   NULLERR   float64  mean error monitor along the ray (CSV err_mean)
  *   NULLSTD   float64  its standard deviation (CSV err_std)

@@ -16,7 +16,7 @@
 #endif
 
 static const char *const cr_outcome_names[CR_OUT_COUNT_] = {
-    "none", "horizon", "disc", "sphere", "sky", "error", "limit",
+    "none", "horizon", "disc", "sphere", "sky", "error", "limit", "outside",
 };
 
 const char *cr_outcome_name(int outcome)
@@ -38,7 +38,7 @@ void cr_frame_stats_compute(const cr_pixel *px, long long n, double seconds,
         const cr_pixel *p = &px[i];
         int o = p->outcome < CR_OUT_COUNT_ ? p->outcome : CR_OUT_ERROR;
         st->counts[o]++;
-        if (o == CR_OUT_NONE)
+        if (o == CR_OUT_NONE || o == CR_OUT_OUTSIDE)
             continue; /* not traced */
         st->rays++;
         st->steps += p->steps;
@@ -301,9 +301,10 @@ static void cr_info_frame(FILE *fp, int k, const cr_frame_stats *st)
         fprintf(fp, "  %-22s n/a\n", "rays per second");
     fprintf(fp, "  %-22s mean %.3e, max %.3e\n", "error monitor", st->err_mean, st->err_max);
     fprintf(fp, "  %-22s", "pixels");
-    for (int o = CR_OUT_HORIZON; o < CR_OUT_COUNT_; o++)
-        fprintf(fp, " %s %lld%s", cr_outcome_name(o), st->counts[o],
-                o + 1 < CR_OUT_COUNT_ ? "," : "");
+    for (int o = CR_OUT_HORIZON; o <= CR_OUT_LIMIT; o++)
+        fprintf(fp, " %s %lld%s", cr_outcome_name(o), st->counts[o], o < CR_OUT_LIMIT ? "," : "");
+    if (st->counts[CR_OUT_OUTSIDE]) /* only fisheye images have such pixels */
+        fprintf(fp, ", outside the image %lld", st->counts[CR_OUT_OUTSIDE]);
     if (st->counts[CR_OUT_NONE])
         fprintf(fp, ", not traced %lld", st->counts[CR_OUT_NONE]);
     fprintf(fp, "\n");

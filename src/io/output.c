@@ -29,7 +29,7 @@ static uint8_t cr_to_byte(double v)
  * The horizon is taken as z = 0 whatever the pixel stores: light from it is
  * infinitely redshifted. A negative ratio (-1: source inside the ergosphere)
  * on a disc or sphere is green; a NaN ratio there is black like every pixel
- * without a source (sky, error, limit, none). */
+ * without a source (sky, error, limit, outside, none). */
 cr_rgb cr_redshift_color(const cr_pixel *p)
 {
     cr_rgb c = {0, 0, 0};
@@ -74,7 +74,8 @@ cr_pixel_values cr_pixel_csv_values(const cr_pixel *q)
     cr_pixel_values v;
     /* The ratio is meaningless where no source was reached. */
     int undefined = q->outcome == CR_OUT_NONE || q->outcome == CR_OUT_ERROR ||
-                    q->outcome == CR_OUT_LIMIT || q->redshift != q->redshift;
+                    q->outcome == CR_OUT_LIMIT || q->outcome == CR_OUT_OUTSIDE ||
+                    q->redshift != q->redshift;
     /* where the ray hit the disc or a sphere */
     int hit = q->outcome == CR_OUT_DISC || q->outcome == CR_OUT_SPHERE;
     v.redshift = undefined ? -1.0 : q->redshift;

@@ -25,8 +25,8 @@ cr_rgb cr_redshift_color(const cr_pixel *p);
 cr_rgb cr_bolometric_color(const cr_pixel *p);
 
 /* The CSV's floating-point values of one pixel, -1 where the CSV writes
- * "undefined": redshift where no source was reached (outcome none, error or
- * limit, or a NaN ratio); hit_r, hit_phi unless the ray hit the disc or a
+ * "undefined": redshift where no source was reached (outcome none, error,
+ * limit or outside, or a NaN ratio); hit_r, hit_phi unless the ray hit the disc or a
  * sphere; bolometric unless it hit a Keplerian disc (cr_pixel.bolo >= 0).
  * The one definition of these columns for the CSV, the FITS file (fits.h)
  * and the Python arrays. */
@@ -45,7 +45,7 @@ int cr_output_bolometric_png(const char *dir, int k, const cr_pixel *px, int w, 
 /* CSV columns (6.11), one row per pixel, header line first:
  * x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric
  * (x, y pixel coordinates from the top-left; redshift -1 where undefined;
- * outcome as the word horizon/disc/sphere/sky/error/limit; hit_r, hit_phi
+ * outcome as the word horizon/disc/sphere/sky/error/limit/outside; hit_r, hit_phi
  * the disc or sphere hit point, -1 otherwise; bolometric g^4 F / F_max on a
  * Keplerian disc hit, -1 otherwise). */
 int cr_output_csv(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err);
