@@ -235,6 +235,9 @@ static int cr_finish_frame(cr_worker *w, int k, const cr_frame_stats *st, cr_err
                     (double)st->steps / (double)rays, st->counts[CR_OUT_HORIZON],
                     st->counts[CR_OUT_DISC], st->counts[CR_OUT_SPHERE], st->counts[CR_OUT_SKY],
                     st->counts[CR_OUT_ERROR], st->counts[CR_OUT_LIMIT]);
+        if (st->counts[CR_OUT_OUTSIDE] > 0) /* fisheye pixels beyond the image circle */
+            cr_log_detail(&run->log, "frame %d: %lld pixels outside the fisheye's image circle "
+                          "(black, not traced)", k, st->counts[CR_OUT_OUTSIDE]);
         if (st->counts[CR_OUT_LIMIT] > 0)
             cr_log_info(&run->log, "curray: warning: frame %d: %lld rays %s", k,
                         st->counts[CR_OUT_LIMIT], CR_INFO_LIMIT_ADVICE);
