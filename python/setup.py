@@ -5,9 +5,22 @@ The extension compiles the same files as the command line's library
 so ``pip install ./python`` needs the repository around this folder and the
 libraries the command line links: libyaml, libpng, zlib (Debian:
 libyaml-dev libpng-dev zlib1g-dev; tools/install-deps.sh installs them).
+
+The CUDA backend (src/cuda/gpu.cu) goes in when nvcc is found, as in the
+CMake build; environment variables choose otherwise:
+  CURRAY_CUDA=0      the CPU only (src/cuda/gpu_stub.c: backend="cuda" says
+                     the build has no CUDA); =1: CUDA or fail; unset: nvcc
+                     when found (PATH, $CUDA_HOME/bin, /usr/local/cuda/bin)
+  CURRAY_CUDA_ARCHS  "80;90" (the default, CMake's): SASS for each, PTX for
+                     the newest
+  CURRAY_GPU_LIB     a libcurray_gpu.a built by CMake with CUDA (position-
+                     independent): linked instead of compiling gpu.cu again
+                     (nvcc takes about a minute; tests/python/run.sh uses it)
 """
 import os
 import re
+import shutil
+import subprocess
 
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
@@ -42,13 +55,107 @@ ext = Extension(
     libraries=["yaml", "png", "z", "m", "pthread"],
 )
 
+def env_switch(name):
+    """None (unset or "auto"), True or False from an environment variable."""
+    v = os.environ.get(name, "").strip().lower()
+    if v in ("", "auto"):
+        return None
+    if v in ("1", "on", "yes", "true"):
+        return True
+    if v in ("0", "off", "no", "false"):
+        return False
+    raise SystemExit("curray setup.py: %s=%r: expected 0, 1 or auto" % (name, v))
+
+
+def find_nvcc():
+    for d in (os.environ.get("CUDA_HOME"), os.environ.get("CUDA_PATH")):
+        if d and os.access(os.path.join(d, "bin", "nvcc"), os.X_OK):
+            return os.path.join(d, "bin", "nvcc")
+    nvcc = shutil.which("nvcc")
+    if nvcc:
+        return nvcc
+    return "/usr/local/cuda/bin/nvcc" if os.access("/usr/local/cuda/bin/nvcc", os.X_OK) else None
+
+
+def cudart_static(nvcc):
+    """The static CUDA runtime of nvcc's toolkit (the command line links it
+    too: the extension then needs only the driver, libcuda.so.1)."""
+    root = os.path.dirname(os.path.dirname(os.path.realpath(nvcc)))
+    for sub in ("lib64", "lib", os.path.join("targets", "x86_64-linux", "lib"),
+                os.path.join("targets", "sbsa-linux", "lib")):
+        p = os.path.join(root, sub, "libcudart_static.a")
+        if os.path.exists(p):
+            return p
+    raise SystemExit("curray setup.py: no libcudart_static.a under %s (set CURRAY_CUDA=0 to "
+                     "build without CUDA)" % root)
+
+
+def cuda_archs():
+    """CMake's CURRAY_CUDA_ARCHS: nvcc -gencode flags and gpu_config.h."""
+    archs = [a for a in os.environ.get("CURRAY_CUDA_ARCHS", "80;90").replace(",", ";").split(";")
+             if a.strip()]
+    if not archs or not all(re.match(r"^[0-9]+$", a.strip()) for a in archs):
+        raise SystemExit("curray setup.py: CURRAY_CUDA_ARCHS=%r: expected numbers like 80;90"
+                         % os.environ.get("CURRAY_CUDA_ARCHS"))
+    archs = sorted({int(a) for a in archs})
+    for a in archs:
+        if a < 70:
+            raise SystemExit("curray setup.py: CUDA architecture %d is older than 7.0 (Volta), "
+                             "which the kernel needs (__grid_constant__)" % a)
+    flags = ["--generate-code=arch=compute_%d,code=[sm_%d]" % (a, a) for a in archs]
+    flags.append("--generate-code=arch=compute_%d,code=[compute_%d]" % (archs[-1], archs[-1]))
+    config = ("/* Written by python/setup.py (as CMake writes it from gpu_config.h.in). */\n"
+              "#ifndef CR_CUDA_GPU_CONFIG_H\n#define CR_CUDA_GPU_CONFIG_H\n"
+              "#define CR_GPU_SASS_ARCHS {%s0}\n#define CR_GPU_PTX_ARCHS {%d, 0}\n"
+              "#define CR_GPU_ARCHS_TEXT \"%s compute_%d (PTX)\"\n#define CR_GPU_FMAD 1\n"
+              "#define CR_GPU_REGCAP_TEXT \"\"\n#endif\n"
+              % ("".join("%d, " % a for a in archs), archs[-1],
+                 " ".join("sm_%d" % a for a in archs), archs[-1]))
+    return flags, config
+
+
 class BuildExt(build_ext):
     """Adds the repository's C sources (outside this folder, so absolute
-    paths, which setuptools refuses in setup() arguments) at build time."""
+    paths, which setuptools refuses in setup() arguments) at build time, and
+    the CUDA backend or its stub (see the top of this file)."""
 
     def build_extension(self, e):
         e.sources = list(e.sources) + [os.path.join(SRC, s) for s in LIB_SOURCES]
+        want = env_switch("CURRAY_CUDA")
+        lib = os.environ.get("CURRAY_GPU_LIB")
+        nvcc = find_nvcc() if want is not False else None
+        if (want or lib) and want is not False and not nvcc:
+            raise SystemExit("curray setup.py: CURRAY_CUDA=1 or CURRAY_GPU_LIB but nvcc (and "
+                             "its CUDA runtime) was not found (PATH, $CUDA_HOME/bin, "
+                             "/usr/local/cuda/bin)")
+        if nvcc and lib:
+            e.extra_objects = list(e.extra_objects) + [os.path.abspath(lib)]
+        elif nvcc:
+            e.sources.append(os.path.join(SRC, "cuda", "gpu_select.c"))
+            e.extra_objects = list(e.extra_objects) + [self.nvcc_compile(nvcc)]
+        else:
+            e.sources += [os.path.join(SRC, "cuda", s) for s in ("gpu_stub.c", "gpu_select.c")]
+        if nvcc:
+            e.extra_objects.append(cudart_static(nvcc))
+            e.libraries = list(e.libraries) + ["dl", "rt", "stdc++"]
         super().build_extension(e)
+
+    def nvcc_compile(self, nvcc):
+        """gpu.cu with the CMake build's flags (Release, no fast math), as
+        position-independent code for the shared extension."""
+        flags, config = cuda_archs()
+        out = os.path.join(os.path.abspath(self.build_temp), "curray_cuda")
+        os.makedirs(out, exist_ok=True)
+        with open(os.path.join(out, "gpu_config.h"), "w") as fp:
+            fp.write(config)
+        obj = os.path.join(out, "gpu.o")
+        cmd = [nvcc, "-O3", "-DNDEBUG", "-D_POSIX_C_SOURCE=200809L",
+               '-DCURRAY_VERSION="%s"' % version(), "-I" + out, "-I" + SRC] + flags + [
+               "-Xcompiler=-fPIC,-Wall,-Wextra", "-c", os.path.join(SRC, "cuda", "gpu.cu"),
+               "-o", obj]
+        print("curray: compiling the CUDA backend (about a minute): " + " ".join(cmd))
+        subprocess.check_call(cmd)
+        return obj
 
 
 setup(version=version(), ext_modules=[ext], cmdclass={"build_ext": BuildExt})

@@ -7,8 +7,9 @@
     p = curray.trace("scenes/demo.yml", pixel=(160, 60), width=320, height=240)
     p.x, p.y, p.z     # the ray's path in Cartesian coordinates (units of M)
 
-Both call curray's C library (the command line's scene loader, CPU backend
-and trace loop); bad input raises ValueError with the command line's message.
+Both call curray's C library (the command line's scene loader, CPU and CUDA
+backends and trace loop); bad input raises ValueError with the command line's
+message, Ctrl-C stops a render with KeyboardInterrupt.
 """
 import json
 import math
@@ -19,7 +20,8 @@ import numpy as np
 
 from . import _curray
 
-__all__ = ["render", "trace", "OUTCOMES", "PATH_COLUMNS", "CONFIG_KEYS", "__version__"]
+__all__ = ["render", "trace", "backend_info", "OUTCOMES", "PATH_COLUMNS", "CONFIG_KEYS",
+           "__version__"]
 
 _C = _curray._constants()
 __version__ = _C["version"]
@@ -86,23 +88,23 @@ def _scene_args(scene):
                      % type(scene).__name__)
 
 
-def _config_text(config):
+def _config_text(config, others):
     sections = {}
     for k, v in config.items():
         if k not in CONFIG_KEYS:
-            raise ValueError("unknown keyword argument '%s'; use any of %s, frame, frames"
-                             % (k, ", ".join(sorted(CONFIG_KEYS))))
+            raise ValueError("unknown keyword argument '%s'; use any of %s, %s"
+                             % (k, ", ".join(sorted(CONFIG_KEYS)), others))
         sec, key = CONFIG_KEYS[k].split(".")
         sections.setdefault(sec, {})[key] = v
     return _yaml(sections)
 
 
-def _common(scene, width, height, frame, frames, config):
+def _common(scene, width, height, frame, frames, config, others="frame, frames"):
     text, is_path, name = _scene_args(scene)
     for what, v in (("width", width), ("height", height), ("frame", frame), ("frames", frames)):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
             raise ValueError("%s: expected an integer, got %r" % (what, v))
-    return dict(scene=text, is_path=is_path, name=name, config=_config_text(config),
+    return dict(scene=text, is_path=is_path, name=name, config=_config_text(config, others),
                 width=int(width), height=int(height), frame=int(frame), frames=int(frames))
 
 
@@ -111,9 +113,25 @@ _DTYPES = {"rgb": "u1", "redshift": "=f8", "outcome": "u1", "steps": "=u4", "err
            "object": "=i2"}
 
 
-def render(scene, width, height, frame=0, frames=1, **config):
-    """Render frame `frame` of `frames` of `scene` at width x height pixels on
-    the CPU (every core unless threads=N), with the GIL released.
+def backend_info():
+    """What render(backend="auto") traces on here: a dict with cuda_built
+    (whether this build carries the CUDA backend), gpu (the number of the
+    GPU it would use, or None for the CPU) and why (why not a GPU: "no CUDA
+    device found", "this build of curray has no CUDA support ...", ...; or
+    a warning about skipped GPUs, or "")."""
+    built, gpu, why = _curray._backend_info()
+    return {"cuda_built": built, "gpu": gpu, "why": why}
+
+
+def render(scene, width, height, frame=0, frames=1, backend="auto", **config):
+    """Render frame `frame` of `frames` of `scene` at width x height pixels,
+    with the GIL released.
+
+    backend: as the command line's --backend: "auto" (a usable GPU when the
+    build has CUDA and there is one, else the CPU), "cpu" (every core unless
+    threads=N) or "cuda" (ValueError with the reason when no GPU can be
+    used). One GPU: the first that the configuration enables and is usable
+    (GPU 0 by default).
 
     scene: a dict with the keys of a scene file (README "Scene file"; a list
     of dicts under "sphere" gives several spheres) or the path of a YAML scene
@@ -127,12 +145,16 @@ def render(scene, width, height, frame=0, frames=1, **config):
     sphere); bolometric float64 (g^4 F / F_max of a Keplerian disc hit, else
     -1, as in the CSV); object int16 (sphere index, disc face 0 top / 1
     bottom, -1).
-    Raises ValueError with the command line's message on bad input.
+    Raises ValueError with the command line's message on bad input,
+    MemoryError when the frame's arrays cannot fit in memory, and
+    KeyboardInterrupt (the render stopped within about 0.25 s) on Ctrl-C.
     """
-    args = _common(scene, width, height, frame, frames, config)
+    args = _common(scene, width, height, frame, frames, config, "frame, frames, backend")
+    if not isinstance(backend, str):
+        raise ValueError("backend: expected auto, cpu or cuda, got %r" % (backend,))
     shape = (args["height"], args["width"])
     out = {}
-    for k, buf in _curray._render(**args).items():
+    for k, buf in _curray._render(backend=backend, **args).items():
         out[k] = np.frombuffer(buf, dtype=_DTYPES[k]).reshape(shape + ((3,) if k == "rgb" else ()))
     return out
 

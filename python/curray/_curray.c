@@ -11,12 +11,14 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
 #include "cpu/render_cpu.h"
+#include "cuda/gpu.h"
 #include "io/info.h"
 #include "io/output.h"
 #include "io/raypath.h"
@@ -109,7 +111,7 @@ static int cr_py_prepare(cr_py_job *j, const char *scene_text, Py_ssize_t scene_
 }
 
 static char *render_kw[] = {"scene", "is_path", "name", "config", "width", "height",
-                            "frame", "frames", NULL};
+                            "frame", "frames", "backend", NULL};
 
 /* The arrays of _render, by name: element size; filled by cr_py_fill. */
 enum { CR_A_RGB, CR_A_REDSHIFT, CR_A_OUTCOME, CR_A_STEPS, CR_A_ERR_MEAN, CR_A_ERR_STD,
@@ -145,30 +147,154 @@ static void cr_py_fill(const cr_pixel *px, size_t n, char **a)
     }
 }
 
-/* _render(scene, is_path, name, config, width, height, frame, frames)
- * -> {name: bytearray} of the arrays above, row-major from the top-left. */
+/* The render in progress, as the calling thread sees it while the GIL is
+ * released: its thread state, the cancel flag the workers read, and whether
+ * a Python signal handler raised (Ctrl-C: KeyboardInterrupt). */
+typedef struct cr_py_wait {
+    PyThreadState *ts;
+    atomic_int cancel;
+    int raised;
+} cr_py_wait;
+
+/* Called from the calling thread while the render runs (the CPU backend's
+ * progress, about every 0.25 s; the GPU's cancel check, after each chunk of
+ * rows): take the GIL only to run Python's signal handlers, and stop the
+ * render when one raised. Returns 1 when the render is to stop. */
+static int cr_py_poll(void *ctx)
+{
+    cr_py_wait *w = ctx;
+    if (w->raised)
+        return 1;
+    PyEval_RestoreThread(w->ts);
+    if (PyErr_CheckSignals() != 0) {
+        w->raised = 1;
+        atomic_store(&w->cancel, 1);
+    }
+    w->ts = PyEval_SaveThread();
+    return w->raised;
+}
+
+static void cr_py_progress(void *ctx, int rows_done, int rows_total)
+{
+    (void)rows_done;
+    (void)rows_total;
+    (void)cr_py_poll(ctx);
+}
+
+/* The GPUs the command line would choose (cr_gpu_devices, then
+ * cr_gpu_select with the configuration's enabled ones): their count, or 0
+ * with the reason in err. */
+static int cr_py_gpu_choose(const int *enabled, int n_enabled, int *chosen, int max_chosen,
+                         cr_err *err)
+{
+    cr_gpu_device table[CR_MAX_GPUS];
+    int n = cr_gpu_devices(table, CR_MAX_GPUS, err);
+    if (n > CR_MAX_GPUS)
+        n = CR_MAX_GPUS;
+    return n > 0 ? cr_gpu_select(table, n, enabled, n_enabled, chosen, max_chosen, err) : 0;
+}
+
+/* The command line's backend choice (--backend, cr_py_gpu_choose): "cuda"
+ * when asked for, or ("auto") when a GPU enabled in the configuration is
+ * usable, else the CPU. Returns the device to trace on, -1 for the CPU, or
+ * -2 with ValueError set ("cuda" without a usable GPU: the reason; a name
+ * that is not a backend). */
+static int cr_py_backend(const char *backend, const cr_sysconfig *cfg)
+{
+    int devices[CR_MAX_GPUS];
+    cr_err gerr;
+    int cpu = strcmp(backend, "cpu") == 0, cuda = strcmp(backend, "cuda") == 0;
+    if (!cpu && !cuda && strcmp(backend, "auto") != 0) {
+        PyErr_Format(PyExc_ValueError, "backend: expected auto, cpu or cuda, got '%s'",
+                     backend);
+        return -2;
+    }
+    if (cpu)
+        return -1;
+    if (cr_py_gpu_choose(cfg->gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS, &gerr) > 0)
+        return devices[0];
+    if (cuda) {
+        PyErr_Format(PyExc_ValueError, "backend cuda: %s", gerr.msg);
+        return -2;
+    }
+    return -1;
+}
+
+/* Trace the frame on the CPU threads (device < 0) or on GPU `device`
+ * (a session of one frame) and fill the arrays a[] from the pixels, with
+ * the GIL released but for the signal checks of cr_py_poll. px: a buffer
+ * of the frame's pixels for the CPU. Returns 0; -1 with err set; or -2 when
+ * a signal handler raised (its exception is set). */
+static int cr_py_trace_frame(const cr_py_job *j, int device, cr_pixel *px, char **a,
+                             cr_err *err)
+{
+    size_t n = (size_t)j->f.width * (size_t)j->f.height;
+    cr_py_wait w;
+    int rc = 0;
+    w.raised = 0;
+    atomic_init(&w.cancel, 0);
+    w.ts = PyEval_SaveThread();
+    if (device < 0) {
+        rc = cr_cpu_render(&j->f, j->cfg.cpu_threads, px, cr_py_progress, &w, &w.cancel, err);
+    } else {
+        cr_gpu_session *s = cr_gpu_session_create(device, n, err);
+        const cr_pixel *gpx = NULL;
+        if (s && cr_gpu_session_launch(s, &j->f, err) == 0)
+            gpx = cr_gpu_session_wait(s, NULL, cr_py_poll, &w, NULL, err);
+        if (gpx && !w.raised)
+            cr_py_fill(gpx, n, a);
+        cr_gpu_session_free(s);
+        rc = gpx ? 0 : -1;
+        px = NULL; /* filled from the session's buffer */
+    }
+    if (rc == 0 && px && !w.raised)
+        cr_py_fill(px, n, a);
+    PyEval_RestoreThread(w.ts);
+    return w.raised ? -2 : rc;
+}
+
+/* _render(scene, is_path, name, config, width, height, frame, frames,
+ * backend) -> {name: bytearray} of the arrays above, row-major from the
+ * top-left. */
 static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
 {
-    const char *scene, *name, *cfg;
+    const char *scene, *name, *cfg, *backend = "auto";
     Py_ssize_t scene_len, cfg_len;
-    int is_path, rc, k;
+    int is_path, rc, k, device;
     long width, height, fk, nf;
-    size_t n;
+    size_t n, per_px;
     cr_py_job j;
-    cr_pixel *px;
+    cr_pixel *px = NULL;
     char *ptr[CR_A_N];
     PyObject *out = NULL;
     cr_err err;
     (void)self;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "s#pss#llll", render_kw, &scene, &scene_len,
-                                     &is_path, &name, &cfg, &cfg_len, &width, &height, &fk, &nf))
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "s#pss#llll|s", render_kw, &scene, &scene_len,
+                                     &is_path, &name, &cfg, &cfg_len, &width, &height, &fk, &nf,
+                                     &backend))
         return NULL;
     if (cr_py_prepare(&j, scene, scene_len, name, is_path, cfg, cfg_len, width, height, fk, nf))
         return NULL;
+    device = cr_py_backend(backend, &j.cfg);
+    if (device == -2) {
+        cr_py_job_free(&j);
+        return NULL;
+    }
+    /* the pixels (the CPU's buffer, or the GPU session's pinned one) and the
+     * arrays: refused before anything large is allocated when they cannot
+     * fit, as the command line refuses such a run */
     n = (size_t)width * (size_t)height;
-    px = malloc(n * sizeof *px);
-    out = PyDict_New();
-    if (!px || !out)
+    for (per_px = sizeof(cr_pixel), k = 0; k < CR_A_N; k++)
+        per_px += cr_py_arrays[k].size;
+    if (cr_cpu_memory_check((double)n * (double)per_px, &err)) {
+        cr_py_job_free(&j);
+        PyErr_Format(PyExc_MemoryError, "a %ldx%ld frame %s; choose a smaller width, height",
+                     width, height, err.msg);
+        return NULL;
+    }
+    if (device < 0 && !(px = malloc(n * sizeof *px)))
+        goto nomem;
+    if (!(out = PyDict_New()))
         goto nomem;
     for (k = 0; k < CR_A_N; k++) {
         PyObject *b = PyByteArray_FromStringAndSize(NULL, (Py_ssize_t)(n * cr_py_arrays[k].size));
@@ -180,19 +306,12 @@ static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
         Py_DECREF(b); /* the dict holds it */
     }
     err.msg[0] = '\0';
-    {
-        int threads = j.cfg.cpu_threads; /* 0: every core */
-        Py_BEGIN_ALLOW_THREADS
-        rc = cr_cpu_render(&j.f, threads, px, NULL, NULL, NULL, &err);
-        if (rc == 0)
-            cr_py_fill(px, n, ptr);
-        Py_END_ALLOW_THREADS
-    }
+    rc = cr_py_trace_frame(&j, device, px, ptr, &err);
     free(px);
     cr_py_job_free(&j);
     if (rc) {
         Py_DECREF(out);
-        return cr_py_value_error("", &err);
+        return rc == -2 ? NULL : cr_py_value_error("", &err);
     }
     return out;
 nomem:
@@ -200,6 +319,21 @@ nomem:
     cr_py_job_free(&j);
     Py_XDECREF(out);
     return PyErr_NoMemory();
+}
+
+/* _backend_info() -> (cuda_built, device or None, why): what backend="auto"
+ * chooses with the default configuration, and why not a GPU. */
+static PyObject *cr_py_backend_info(PyObject *self, PyObject *unused)
+{
+    int devices[CR_MAX_GPUS];
+    cr_sysconfig cfg;
+    cr_err gerr;
+    (void)self;
+    (void)unused;
+    cr_sysconfig_defaults(&cfg);
+    if (cr_py_gpu_choose(cfg.gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS, &gerr) > 0)
+        return Py_BuildValue("(Nis)", PyBool_FromLong(cr_gpu_built()), devices[0], gerr.msg);
+    return Py_BuildValue("(NOs)", PyBool_FromLong(cr_gpu_built()), Py_None, gerr.msg);
 }
 
 static char *trace_kw[] = {"scene", "is_path", "name", "config", "width", "height",
@@ -273,6 +407,8 @@ static PyMethodDef cr_py_methods[] = {
     {"_trace", (PyCFunction)(void (*)(void))cr_py_trace, METH_VARARGS | METH_KEYWORDS,
      "Trace one pixel's ray with its path."},
     {"_constants", cr_py_constants, METH_NOARGS, "Outcome names, path columns, version."},
+    {"_backend_info", cr_py_backend_info, METH_NOARGS,
+     "(CUDA built, the GPU backend='auto' would use or None, why not a GPU)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef cr_py_module = {PyModuleDef_HEAD_INIT, "_curray",

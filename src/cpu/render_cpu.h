@@ -34,4 +34,12 @@ int cr_cpu_render_rows(const cr_frame *f, int row0, int rows, int threads, cr_pi
 /* Number of online cores (>= 1). */
 int cr_cpu_cores(void);
 
+/* Whether `bytes` of host memory can be had: 0 when they fit in the
+ * physical memory, or in the address-space or data-size limit (ulimit -v,
+ * -d) when lower, or when none of these can be known; else -1 with "needs
+ * about X GiB of memory, more than the Y GiB of <which limit>" (the caller
+ * says what needs it). For refusing a run before anything large is
+ * allocated, rather than being killed by the out-of-memory killer. */
+int cr_cpu_memory_check(double bytes, cr_err *err);
+
 #endif

@@ -389,3 +389,140 @@ def test_trace_to_sky_at_infinity(tmp_path):
         assert np.all(np.isfinite(np.vstack([p[c] for c in curray.PATH_COLUMNS])))
         assert p.r[-1] > 100 and p.ur[-1] > 0 and np.all(np.diff(p.t) < 0)
         assert null_residual(p, 0.5, 0.0).max() < NULL_TOL["mino"]
+
+
+# ---- backends: backend="auto" | "cpu" | "cuda" ------------------------------
+
+INFO = curray.backend_info()
+NEEDS_GPU = pytest.mark.skipif(
+    INFO["gpu"] is None, reason="no usable GPU here (backend_info: %s)" % INFO["why"])
+
+
+def test_backend_choice_without_gpu(scenes):
+    """Where no GPU can be used (CI, this machine), "auto" is the CPU: the
+    same arrays as "cpu"; "cuda" is refused with the reason (the command
+    line's --backend cuda message: no device, or a build without CUDA)."""
+    if INFO["gpu"] is not None:
+        pytest.skip("a GPU is usable here (GPU %d): test_backend_cuda_equals_cpu covers it"
+                    % INFO["gpu"])
+    assert INFO["why"], "no reason given why no GPU is used"
+    if not INFO["cuda_built"]:
+        assert "no CUDA support" in INFO["why"]
+    a = curray.render(scenes["kn"], W, H, threads=2)
+    b = curray.render(scenes["kn"], W, H, threads=2, backend="cpu")
+    assert a.keys() == b.keys()
+    for k in a:
+        assert np.array_equal(a[k], b[k]), k
+    with pytest.raises(ValueError) as e:
+        curray.render(scenes["kn"], W, H, backend="cuda")
+    assert str(e.value) == "backend cuda: " + INFO["why"]
+    # no device, no driver, no CUDA in this build, an unusable GPU: all say so
+    assert "CUDA" in INFO["why"] or "GPU" in INFO["why"], INFO["why"]
+
+
+@pytest.mark.parametrize("backend", ["gpu", "CPU", "", 0, None])
+def test_backend_name_refused(backend):
+    with pytest.raises(ValueError, match=r"^backend: expected auto, cpu or cuda, got "):
+        curray.render(DEMO_YAML, 8, 8, backend=backend)
+
+
+def test_trace_has_no_backend_keyword():
+    with pytest.raises(ValueError, match=r"unknown keyword argument 'backend'; .* frame, frames$"):
+        curray.trace(DEMO_YAML, pixel=(0, 0), width=8, height=8, backend="cpu")
+
+
+@NEEDS_GPU
+@pytest.mark.parametrize("name", ["kn", "demo", "kepler"])
+def test_backend_cuda_equals_cpu(scenes, name):
+    """The GPU's arrays against the CPU's (the reference, DESIGN rule 3), with
+    test_backends' tolerances: outcome and object equal but for at most
+    0.1 % of the pixels (plus one), redshift within 1e-6 where they agree."""
+    w, h = 96, 64
+    cpu = curray.render(scenes[name], w, h, threads=2, backend="cpu")
+    gpu = curray.render(scenes[name], w, h, backend="cuda")
+    auto = curray.render(scenes[name], w, h)
+    for k in gpu:
+        assert np.array_equal(gpu[k], auto[k]), "auto did not pick the GPU: " + k
+    same = (cpu["outcome"] == gpu["outcome"]) & (cpu["object"] == gpu["object"])
+    allowed = int(0.001 * w * h) + 1
+    assert (~same).sum() <= allowed, "%d pixels differ in outcome" % (~same).sum()
+    dz = np.abs(cpu["redshift"] - gpu["redshift"])[same]
+    assert (~(dz <= 1e-6)).sum() <= allowed, "worst redshift difference %g" % dz.max()
+
+
+# ---- Ctrl-C and memory -------------------------------------------------------
+
+CTRL_C_CHILD = r"""
+import sys, time
+import curray
+print("start", flush=True)
+t0 = time.monotonic()
+try:
+    # 2.25 million pixels of 16 rays: minutes of CPU time, never done in 1 s
+    curray.render(sys.argv[1], 1500, 1500, samples=16, threads=2, backend=sys.argv[2])
+    print("finished %.1f s" % (time.monotonic() - t0), flush=True)
+except KeyboardInterrupt:
+    print("interrupted %.1f s" % (time.monotonic() - t0), flush=True)
+img = curray.render(sys.argv[1], 8, 8, threads=1)
+print("usable", img["rgb"].shape, flush=True)
+"""
+
+
+@pytest.mark.parametrize("backend", ["cpu", pytest.param("cuda", marks=NEEDS_GPU)])
+def test_ctrl_c_stops_render(tmp_path, backend):
+    """Ctrl-C (SIGINT) during a long render: KeyboardInterrupt within a few
+    seconds (the render polls Python's signal handlers about every 0.25 s),
+    and the interpreter goes on (a second render works)."""
+    import signal
+    import sys
+    import time
+    p = subprocess.Popen([sys.executable, "-c", CTRL_C_CHILD, DEMO_YAML, backend],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert p.stdout.readline().strip() == "start"
+        time.sleep(1.0)
+        assert p.poll() is None, p.communicate()
+        t = time.monotonic()
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=30)
+        took = time.monotonic() - t
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
+    assert p.returncode == 0, (p.returncode, out, err)
+    assert out.startswith("interrupted") and "usable (8, 8, 3)" in out, (out, err)
+    assert took < 5.0, "%.1f s from Ctrl-C to the end" % took
+
+
+MEMORY_CHILD = r"""
+import resource, sys
+import curray
+gib = 1 << 30
+resource.setrlimit(resource.RLIMIT_AS, (4 * gib, 4 * gib))
+try:
+    curray.render(sys.argv[1], 8192, 8192, threads=1)
+    print("rendered")
+except MemoryError as e:
+    print("MemoryError:", e)
+"""
+
+
+def test_huge_frame_memory_error():
+    """A frame whose arrays cannot fit is refused before anything is
+    allocated, with the command line's check and message (here against a
+    4 GiB address-space limit: 8192 x 8192 pixels need about 7.5 GiB), never
+    left to the out-of-memory killer; sizes past the command line's limits
+    are a ValueError as there."""
+    import sys
+    r = subprocess.run([sys.executable, "-c", MEMORY_CHILD, DEMO_YAML], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 0, (r.returncode, r.stdout, r.stderr)
+    line = r.stdout.strip()
+    assert line.startswith("MemoryError: a 8192x8192 frame needs about "), line
+    assert line.endswith("GiB of memory, more than the 4.00 GiB of the address-space limit "
+                         "(ulimit -v); choose a smaller width, height"), line
+    need = float(line.split("needs about ")[1].split(" GiB")[0])
+    assert 6.0 < need < 10.0, need  # 8192^2 x (a pixel + the arrays' 66 bytes)
+    with pytest.raises(ValueError, match=r"^width, height: expected 1 to 65536 pixels a side"):
+        curray.render(DEMO_YAML, 100000, 100000)
