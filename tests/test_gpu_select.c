@@ -106,6 +106,55 @@ static void test_config_disables(void **state)
     assert_string_equal(pick("01", "11", N_MAX, NULL), "1");
 }
 
+/* The GPUs of MPI ranks (cr_gpu_for_local_rank): local rank k of
+ * local_size on a node whose selection is `usable`/`on` (as pick() takes
+ * them) gets one device each; returns them as "d0,d1,...", and the note of
+ * the last rank in *note. */
+static const char *ranks(const char *usable, const char *on, int local_size, cr_err *note)
+{
+    static char out[64];
+    cr_gpu_device t[N_MAX];
+    int e[N_MAX], chosen[N_MAX], n, k;
+    int nd = make_table(t, usable), ne = make_enabled(e, on);
+    cr_err err;
+    n = cr_gpu_select(t, nd, e, ne, chosen, N_MAX, &err);
+    out[0] = '\0';
+    for (k = 0; k < local_size; k++)
+        snprintf(out + strlen(out), sizeof out - strlen(out), "%s%d", k ? "," : "",
+                 cr_gpu_for_local_rank(chosen, n, k, local_size, note));
+    return out;
+}
+
+static void test_local_rank(void **state)
+{
+    cr_err note;
+    int one = 0;
+    (void)state;
+    /* 2 ranks, 1 GPU: both trace on device 0 (shared, no CPU fallback) */
+    assert_string_equal(ranks("1", "1", 2, &note), "0,0");
+    assert_non_null(strstr(note.msg, "2 MPI ranks on this node share its 1 usable GPU"));
+    /* 4 ranks, 2 GPUs: round robin */
+    assert_string_equal(ranks("11", "11", 4, &note), "0,1,0,1");
+    assert_non_null(strstr(note.msg, "share its 2 usable GPUs"));
+    /* GPU 0 unusable: the ranks take the usable ones by their numbers */
+    assert_string_equal(ranks("011", "111", 4, &note), "1,2,1,2");
+    assert_string_equal(ranks("01", "11", 2, &note), "1,1");
+    /* as many ranks as GPUs: one each, nothing to say */
+    assert_string_equal(ranks("1111", "1111", 4, &note), "0,1,2,3");
+    assert_string_equal(note.msg, "");
+    /* fewer ranks than GPUs: the rest stay idle, and the note says so */
+    assert_string_equal(ranks("1111", "1111", 3, &note), "0,1,2");
+    assert_non_null(strstr(note.msg, "4 usable GPUs on this node but 3 MPI ranks: 1 GPU stays "
+                                     "idle"));
+    /* disabled in the configuration: skipped like unusable ones */
+    assert_string_equal(ranks("111", "101", 3, &note), "0,2,0");
+    /* no usable GPU, or a bad rank: -1 (the caller uses the CPU or refuses) */
+    assert_string_equal(ranks("0", "1", 2, &note), "-1,-1");
+    assert_int_equal(cr_gpu_for_local_rank(&one, 1, -1, 1, &note), -1);
+    assert_int_equal(cr_gpu_for_local_rank(NULL, 1, 0, 1, NULL), -1);
+    assert_int_equal(cr_gpu_for_local_rank(&one, 1, 0, 1, NULL), 0);
+}
+
 /* This build's device table: without a GPU (or without CUDA) no device and
  * a reason; with one, every entry described. */
 static void test_devices_of_this_build(void **state)
@@ -133,6 +182,7 @@ int main(void)
         cmocka_unit_test(test_gaps),
         cmocka_unit_test(test_none_usable),
         cmocka_unit_test(test_config_disables),
+        cmocka_unit_test(test_local_rank),
         cmocka_unit_test(test_devices_of_this_build),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

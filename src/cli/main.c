@@ -84,7 +84,9 @@ typedef struct cr_run {
      * without MPI); a one-frame run spread by rows: its frame, the pixels
      * gathered on rank 0, the next block of rows and the rows finished */
     int mpi_rank, mpi_size;
+    int mpi_local_rank, mpi_local_size; /* on this node (cr_gpu_for_local_rank) */
     int mpi_served;   /* rank 0 served every other rank to the end */
+    cr_gpu_session *rank_gs; /* a rank > 0's GPU session, made at its first item */
     double gather_s, gather_bytes;
     cr_frame rows_frame;
     cr_sphere *rows_spheres;
@@ -606,8 +608,44 @@ static int cr_configure(cr_run *run, cr_err *err)
     return 0;
 }
 
+/* An MPI run traces on GPUs on every rank or on none (so its files are a
+ * one-process run's on that backend): given the n GPUs chosen on this rank
+ * (run->devices), every rank says whether it has one (a collective call,
+ * made once by every rank when the backend is not cpu: see
+ * cr_mpi_skip_gpus). When all do, this rank's GPU is the one of its local
+ * rank (cr_gpu_for_local_rank) and 1 is returned; else 0 with the reason in
+ * err. */
+static int cr_mpi_gpus(cr_run *run, int n, cr_err *err)
+{
+    cr_err note;
+    if (!cr_mpi_all_ok(n > 0)) {
+        if (n > 0)
+            cr_err_set(err, "another MPI rank has no usable GPU (an MPI run traces on GPUs on "
+                            "every rank or on none)");
+        return 0;
+    }
+    run->devices[0] = cr_gpu_for_local_rank(run->devices, n, run->mpi_local_rank,
+                                            run->mpi_local_size, &note);
+    cr_log_detail(&run->log, "MPI rank %d (local rank %d of %d on %s) traces on GPU %d",
+                  run->mpi_rank, run->mpi_local_rank, run->mpi_local_size, cr_mpi_host(),
+                  run->devices[0]);
+    if (note.msg[0])
+        cr_log_info(&run->log, "curray: warning: %s", note.msg);
+    return 1;
+}
+
+/* A rank that stops before cr_choose_backend still takes part in
+ * cr_mpi_gpus' collective call, so that the ranks' collective calls pair
+ * up (cr_mpi_ready's comes next on every rank). */
+static void cr_mpi_skip_gpus(const cr_run *run)
+{
+    if (run->mpi_size > 1 && run->cli.backend != CR_BACKEND_CPU)
+        cr_mpi_all_ok(0);
+}
+
 /* CUDA when asked for or (auto) when an enabled GPU is usable, else the CPU
- * (cr_gpu_select). Fills devices, n_workers, use_cuda and backend_name. */
+ * (cr_gpu_select; in an MPI run one GPU per rank, cr_mpi_gpus). Fills
+ * devices, n_workers, use_cuda and backend_name. */
 static int cr_choose_backend(cr_run *run)
 {
     cr_gpu_device table[CR_MAX_GPUS];
@@ -622,11 +660,17 @@ static int cr_choose_backend(cr_run *run)
         if (n > 0)
             n = cr_gpu_select(table, n, run->cfg.gpu_enabled, CR_MAX_GPUS, run->devices,
                               CR_MAX_GPUS, &gerr);
+        if (run->mpi_size > 1)
+            n = cr_mpi_gpus(run, n, &gerr);
         if (n > 0) {
             run->use_cuda = 1;
             run->n_workers = n;
             if (gerr.msg[0])
                 cr_log_info(&run->log, "curray: warning: %s", gerr.msg);
+        } else if (run->cli.backend == CR_BACKEND_CUDA && run->mpi_size > 1) {
+            cr_log_error(&run->log, "curray: MPI rank %d on %s: --backend cuda: %s",
+                         run->mpi_rank, cr_mpi_host(), gerr.msg);
+            return -1;
         } else if (run->cli.backend == CR_BACKEND_CUDA) {
             cr_log_error(&run->log, "curray: --backend cuda: %s", gerr.msg);
             return -1;
@@ -792,23 +836,50 @@ static int cr_mpi_stop(void *ctx)
     return cr_interrupt_requested(&((cr_run *)ctx)->intr);
 }
 
-/* Rank 0's worker in a one-frame run: blocks of rows into rows_px. */
+/* Trace rows [row0, row0 + rows) of the prepared frame f into out (rows x
+ * width pixels): through the GPU session gs when there is one (MPI with
+ * GPUs), else with the CPU threads. w (may be NULL) is the worker whose
+ * Ctrl-C stops the rows. Returns 0, or -1 with err set. */
+static int cr_trace_rows(cr_run *run, cr_gpu_session *gs, const cr_frame *f, int row0, int rows,
+                         cr_pixel *out, cr_worker *w, cr_err *err)
+{
+    const cr_pixel *px;
+    if (!gs)
+        return cr_cpu_render_rows(f, row0, rows, run->threads, out, NULL, NULL,
+                                  w ? &run->intr.count : NULL, err);
+    if (cr_gpu_session_launch_rows(gs, f, row0, rows, err))
+        return -1;
+    px = cr_gpu_session_wait(gs, NULL, w ? cr_cancelled : NULL, w, NULL, err);
+    if (!px)
+        return -1;
+    memcpy(out, px, (size_t)rows * (size_t)f->width * sizeof *out);
+    return 0;
+}
+
+/* Rank 0's worker in a one-frame run: blocks of rows into rows_px, on its
+ * GPU (a session for the run) or its CPU threads. */
 static void *cr_rows_main(void *arg)
 {
     cr_worker *w = arg;
     cr_run *run = w->run;
     size_t width = (size_t)run->cli.width;
+    cr_gpu_session *gs = NULL;
     int row0, rows;
     cr_err err;
+    if (w->device >= 0 &&
+        !(gs = cr_gpu_session_create(w->device, width * (size_t)run->cli.height, &err))) {
+        cr_fail(run, &err);
+        return NULL;
+    }
     while (cr_next_rows(run, &row0, &rows) == 0) {
-        if (cr_cpu_render_rows(&run->rows_frame, row0, rows, run->threads,
-                               run->rows_px + (size_t)row0 * width, NULL, NULL, &run->intr.count,
-                               &err)) {
+        if (cr_trace_rows(run, gs, &run->rows_frame, row0, rows,
+                          run->rows_px + (size_t)row0 * width, w, &err)) {
             cr_fail(run, &err);
             break;
         }
         atomic_fetch_add(&run->rows_done, rows);
     }
+    cr_gpu_session_free(gs);
     return NULL;
 }
 
@@ -870,7 +941,8 @@ static void cr_mpi_frames(cr_run *run)
     run->rows_spheres = NULL;
 }
 
-/* A rank > 0: trace rows [row0, row0 + rows) of frame k into px. */
+/* A rank > 0: trace rows [row0, row0 + rows) of frame k into px, on its
+ * GPU (run->rank_gs, made at the first item) or its CPU threads. */
 static int cr_mpi_render(void *ctx, int k, int row0, int rows, cr_pixel *px, double *seconds,
                          cr_err *err)
 {
@@ -878,13 +950,18 @@ static int cr_mpi_render(void *ctx, int k, int row0, int rows, cr_pixel *px, dou
     cr_frame f;
     double t0;
     int rc = -1;
-    cr_sphere *spheres = malloc(sizeof *spheres * (size_t)(run->scene.n_spheres + 1));
+    cr_sphere *spheres;
+    if (run->use_cuda && !run->rank_gs &&
+        !(run->rank_gs = cr_gpu_session_create(
+              run->devices[0], (size_t)run->cli.width * (size_t)run->cli.height, err)))
+        return -1;
+    spheres = malloc(sizeof *spheres * (size_t)(run->scene.n_spheres + 1));
     if (!spheres)
         return cr_err_set(err, "out of memory");
     if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
                        (int)run->cli.height, &run->ts, &f, spheres, err) == 0) {
         t0 = cr_now();
-        rc = cr_cpu_render_rows(&f, row0, rows, run->threads, px, NULL, NULL, NULL, err);
+        rc = cr_trace_rows(run, run->rank_gs, &f, row0, rows, px, NULL, err);
         *seconds = cr_now() - t0;
     }
     free(spheres);
@@ -895,7 +972,10 @@ static int cr_mpi_render(void *ctx, int k, int row0, int rows, cr_pixel *px, dou
 static int cr_mpi_rank_main(cr_run *run)
 {
     cr_err err;
-    if (cr_mpi_serve((int)run->cli.width, cr_mpi_render, run, &err)) {
+    int rc = cr_mpi_serve((int)run->cli.width, cr_mpi_render, run, &err);
+    cr_gpu_session_free(run->rank_gs);
+    run->rank_gs = NULL;
+    if (rc) {
         cr_log_error(&run->log, "curray: MPI rank %d on %s: %s", run->mpi_rank, cr_mpi_host(),
                      err.msg);
         return CR_EXIT_ERROR;
@@ -903,16 +983,12 @@ static int cr_mpi_rank_main(cr_run *run)
     return CR_EXIT_OK;
 }
 
-/* MPI: every rank checks the run (same arguments, same files); the CPU
- * backend on every rank, and a one-frame run needs a row per rank. */
+/* MPI: every rank checks the run (same arguments, same files); a one-frame
+ * run needs a row per rank. */
 static int cr_mpi_check(cr_run *run, cr_err *err)
 {
     if (run->mpi_size < 2)
         return 0;
-    if (run->cli.backend == CR_BACKEND_CUDA)
-        return cr_err_set(err, "--backend cuda: an MPI run renders on the CPU of every rank "
-                               "(GPUs per rank are not supported yet)");
-    run->cli.backend = CR_BACKEND_CPU;
     if (run->cli.frames == 1 && run->mpi_size > run->cli.height)
         return cr_err_set(err,
                           "%d MPI ranks for a one-frame run of %ld rows: more ranks than rows; "
@@ -1110,6 +1186,7 @@ static int cr_prepare(cr_run *run, int *rc)
     *rc = CR_EXIT_ERROR;
     if (cr_configure(run, &err)) {
         fprintf(stderr, "curray: configuration file %s\n", err.msg);
+        cr_mpi_skip_gpus(run);
         return -1;
     }
     /* console now, the file once the output folder exists (log.h) */
@@ -1118,6 +1195,7 @@ static int cr_prepare(cr_run *run, int *rc)
     if (cr_mpi_check(run, &err)) {
         if (run->mpi_rank == 0) /* every rank finds the same */
             cr_log_error(&run->log, "curray: %s", err.msg);
+        cr_mpi_skip_gpus(run);
         return -1;
     }
     cr_log_detail(&run->log, "curray %s, configuration %s", CURRAY_VERSION,
@@ -1223,7 +1301,8 @@ int main(int argc, char **argv)
     int rc, ready = 0;
 
     memset(&run, 0, sizeof run);
-    cr_mpi_init(&argc, &argv, &run.mpi_rank, &run.mpi_size);
+    cr_mpi_init(&argc, &argv, &run.mpi_rank, &run.mpi_size, &run.mpi_local_rank,
+                &run.mpi_local_size);
     run.argc = argc;
     run.argv = argv;
     /* A reader that goes away (curray ... | head) must not kill a render

@@ -3,11 +3,12 @@
 
 #ifndef CURRAY_MPI
 
-void cr_mpi_init(int *argc, char ***argv, int *rank, int *size)
+void cr_mpi_init(int *argc, char ***argv, int *rank, int *size, int *local_rank,
+                 int *local_size)
 {
     (void)argc, (void)argv;
-    *rank = 0;
-    *size = 1;
+    *rank = *local_rank = 0;
+    *size = *local_size = 1;
 }
 
 void cr_mpi_finalize(void) {}
@@ -53,12 +54,23 @@ enum { CR_TAG_RESULT = 1, CR_TAG_ASSIGN, CR_TAG_PIXELS, CR_TAG_ERROR };
 
 static char cr_host[MPI_MAX_PROCESSOR_NAME + 1] = "?";
 
-void cr_mpi_init(int *argc, char ***argv, int *rank, int *size)
+void cr_mpi_init(int *argc, char ***argv, int *rank, int *size, int *local_rank,
+                 int *local_size)
 {
+    MPI_Comm node;
     int provided, len = 0;
     MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
     MPI_Comm_rank(MPI_COMM_WORLD, rank);
     MPI_Comm_size(MPI_COMM_WORLD, size);
+    /* the ranks that share this node's memory, numbered in world order */
+    *local_rank = 0;
+    *local_size = 1;
+    if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, *rank, MPI_INFO_NULL, &node) ==
+        MPI_SUCCESS) {
+        MPI_Comm_rank(node, local_rank);
+        MPI_Comm_size(node, local_size);
+        MPI_Comm_free(&node);
+    }
     if (MPI_Get_processor_name(cr_host, &len) != MPI_SUCCESS)
         strcpy(cr_host, "?");
 }

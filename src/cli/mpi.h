@@ -23,8 +23,11 @@
 #include "../io/error.h"
 
 /* MPI_Init (threads: funnelled); rank and size of MPI_COMM_WORLD, and the
- * rank on this node (for choosing GPUs). Without MPI: rank 0 of 1. */
-void cr_mpi_init(int *argc, char ***argv, int *rank, int *size);
+ * rank on this node and the number of ranks there (MPI_Comm_split_type
+ * with MPI_COMM_TYPE_SHARED; for choosing GPUs, cr_gpu_for_local_rank).
+ * Without MPI: rank 0 of 1, local rank 0 of 1. */
+void cr_mpi_init(int *argc, char ***argv, int *rank, int *size, int *local_rank,
+                 int *local_size);
 void cr_mpi_finalize(void);
 /* End every rank at once (after an interrupt or a failure on rank 0). */
 void cr_mpi_abort(int code);

@@ -424,7 +424,7 @@ typedef struct cr_gpu_slot {
     int *chunk_row_end;    /* rows finished when chunk[c] has completed */
     int chunk_cap;         /* events created in chunk[] */
     int n_chunks;          /* chunks of the frame in flight */
-    int height;
+    int height;            /* rows launched (the pixels hold these rows only) */
 } cr_gpu_slot;
 
 struct cr_gpu_session {
@@ -633,14 +633,27 @@ static int cr_gpu_session_room(cr_gpu_session *s, cr_gpu_slot *sl, int n, int n_
 
 extern "C" int cr_gpu_session_launch(cr_gpu_session *s, const cr_frame *f, cr_err *err)
 {
+    if (!f || f->width <= 0 || f->height <= 0)
+        return cr_err_set(err, "cr_gpu_render: empty frame");
+    return cr_gpu_session_launch_rows(s, f, 0, f->height, err);
+}
+
+extern "C" int cr_gpu_session_launch_rows(cr_gpu_session *s, const cr_frame *f, int first,
+                                          int n_rows, cr_err *err)
+{
     cr_gpu_slot *sl;
     cr_frame df;
     dim3 threads, blocks;
-    int rows, n_chunks, row0, c;
+    int rows, n_chunks, row0, c, last;
     if (!s)
         return cr_err_set(err, "cr_gpu_session_launch: no session");
     if (!f || f->width <= 0 || f->height <= 0)
         return cr_err_set(err, "cr_gpu_render: empty frame");
+    if (first < 0 || n_rows < 1 || first > f->height - n_rows)
+        return cr_err_set(err, "cr_gpu_session_launch_rows: rows %d to %d are not rows of a "
+                               "%d-row frame",
+                          first, first + n_rows - 1, f->height);
+    last = first + n_rows;
     if ((size_t)f->width * (size_t)f->height > s->max_pixels)
         return cr_err_set(err, "cr_gpu_render: a %dx%d frame is larger than the session's %zu "
                                "pixels",
@@ -653,8 +666,8 @@ extern "C" int cr_gpu_session_launch(cr_gpu_session *s, const cr_frame *f, cr_er
         return cr_err_set(err, "cr_gpu_session_launch: %d frames are in flight already",
                           CR_GPU_SLOTS);
     sl = &s->slot[s->launched % CR_GPU_SLOTS];
-    rows = cr_gpu_rows_per_launch(s, f->width, f->height);
-    n_chunks = (f->height + rows - 1) / rows;
+    rows = cr_gpu_rows_per_launch(s, f->width, n_rows);
+    n_chunks = (n_rows + rows - 1) / rows;
 
     CR_CUDA_CHECK(cudaSetDevice(s->device));
     if (cr_gpu_session_sky(s, f, err) || cr_gpu_session_room(s, sl, f->n_spheres, n_chunks, err))
@@ -674,23 +687,23 @@ extern "C" int cr_gpu_session_launch(cr_gpu_session *s, const cr_frame *f, cr_er
     df.sky.rgb = f->sky.rgb ? s->d_sky : NULL;
 
     threads = dim3(CR_GPU_TILE_W, (unsigned)(s->block / CR_GPU_TILE_W), 1);
-    for (row0 = 0, c = 0; row0 < f->height; row0 += rows, c++) {
-        int row_end = row0 + rows < f->height ? row0 + rows : f->height;
+    for (row0 = first, c = 0; row0 < last; row0 += rows, c++) {
+        int row_end = row0 + rows < last ? row0 + rows : last;
         blocks = dim3((unsigned)((f->width + CR_GPU_TILE_W - 1) / CR_GPU_TILE_W),
                       (unsigned)((row_end - row0 + (int)threads.y - 1) / (int)threads.y), 1);
         cr_gpu_trace_kernel<<<blocks, threads, 0, s->stream>>>(df, s->d_out, row0, row_end,
                                                                s->abort_dev);
         CR_CUDA_CHECK(cudaGetLastError());
         CR_CUDA_CHECK(cudaEventRecord(sl->chunk[c], s->stream));
-        sl->chunk_row_end[c] = row_end;
+        sl->chunk_row_end[c] = row_end - first;
     }
     CR_CUDA_CHECK(cudaEventRecord(sl->traced, s->stream));
-    CR_CUDA_CHECK(cudaMemcpyAsync(sl->px, s->d_out,
-                                  sizeof(cr_pixel) * (size_t)f->width * (size_t)f->height,
+    CR_CUDA_CHECK(cudaMemcpyAsync(sl->px, s->d_out + (size_t)first * (size_t)f->width,
+                                  sizeof(cr_pixel) * (size_t)f->width * (size_t)n_rows,
                                   cudaMemcpyDeviceToHost, s->stream));
     CR_CUDA_CHECK(cudaEventRecord(sl->end, s->stream));
     sl->n_chunks = n_chunks;
-    sl->height = f->height;
+    sl->height = n_rows;
     s->launched++;
     return 0;
 }

@@ -50,6 +50,20 @@ int cr_gpu_devices(cr_gpu_device *table, int max, cr_err *err);
 int cr_gpu_select(const cr_gpu_device *table, int n_devices, const int *enabled, int n_enabled,
                   int *chosen, int max_chosen, cr_err *err);
 
+/* The GPU of one MPI rank, a pure function (no MPI, no CUDA): the ranks on
+ * a node are numbered 0..local_size-1 (their local rank), and local rank k
+ * takes chosen[k % n_chosen], chosen[] being what cr_gpu_select chose on
+ * that node. So every rank traces on a GPU: with fewer GPUs than ranks on a
+ * node, ranks share a GPU (its time is divided); with more, the GPUs past
+ * the first local_size stay idle (one GPU per rank: start as many ranks per
+ * node as it has GPUs). No rank falls back to the CPU while its node has a
+ * usable GPU, so every pixel comes from the same kernel and an MPI run's
+ * files equal a one-process GPU run's. Returns the device number, or -1 when
+ * n_chosen < 1 or local_rank < 0. note (may be NULL) gets "" or one line
+ * saying that GPUs are shared or left idle. */
+int cr_gpu_for_local_rank(const int *chosen, int n_chosen, int local_rank, int local_size,
+                          cr_err *note);
+
 /* 1 when this binary was built with the CUDA backend. */
 int cr_gpu_built(void);
 
@@ -114,6 +128,14 @@ cr_gpu_session *cr_gpu_session_create(int device, size_t max_pixels, cr_err *err
  * At most two frames may be in flight (launched and not yet waited for).
  * Returns 0, or -1 with err set. */
 int cr_gpu_session_launch(cr_gpu_session *s, const cr_frame *f, cr_err *err);
+
+/* cr_gpu_session_launch for rows [row0, row0 + rows) of f only (an MPI run
+ * of one frame spreads blocks of rows): cr_gpu_session_wait then returns
+ * those rows' rows * width pixels, row-major, and its progress counts rows
+ * of the block. The pixels are those of the whole frame's launch. Returns
+ * 0, or -1 with err set (also for a range outside the frame). */
+int cr_gpu_session_launch_rows(cr_gpu_session *s, const cr_frame *f, int row0, int rows,
+                               cr_err *err);
 
 /* Wait for the oldest frame in flight. After each chunk of rows progress
  * (may be NULL) is called with the rows finished, then cancelled(ctx) (may

@@ -68,3 +68,25 @@ int cr_gpu_select(const cr_gpu_device *table, int n_devices, const int *enabled,
         cr_err_set(err, "%s", skipped);
     return 0;
 }
+
+int cr_gpu_for_local_rank(const int *chosen, int n_chosen, int local_rank, int local_size,
+                          cr_err *note)
+{
+    if (note)
+        note->msg[0] = '\0';
+    if (!chosen || n_chosen < 1 || local_rank < 0)
+        return -1;
+    if (note && local_size > n_chosen)
+        snprintf(note->msg, sizeof note->msg,
+                 "%d MPI ranks on this node share its %d usable GPU%s (local rank k uses the "
+                 "k-th modulo %d)",
+                 local_size, n_chosen, n_chosen > 1 ? "s" : "", n_chosen);
+    else if (note && local_size > 0 && local_size < n_chosen)
+        snprintf(note->msg, sizeof note->msg,
+                 "%d usable GPU%s on this node but %d MPI rank%s: %d GPU%s stay%s idle (one GPU "
+                 "per rank; start a rank per GPU)",
+                 n_chosen, n_chosen > 1 ? "s" : "", local_size, local_size > 1 ? "s" : "",
+                 n_chosen - local_size, n_chosen - local_size > 1 ? "s" : "",
+                 n_chosen - local_size > 1 ? "" : "s");
+    return chosen[local_rank % n_chosen];
+}

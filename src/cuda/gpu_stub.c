@@ -69,6 +69,16 @@ int cr_gpu_session_launch(cr_gpu_session *s, const cr_frame *f, cr_err *err)
     return cr_err_set(err, CR_GPU_NO_CUDA);
 }
 
+int cr_gpu_session_launch_rows(cr_gpu_session *s, const cr_frame *f, int row0, int rows,
+                               cr_err *err)
+{
+    (void)s;
+    (void)f;
+    (void)row0;
+    (void)rows;
+    return cr_err_set(err, CR_GPU_NO_CUDA);
+}
+
 const cr_pixel *cr_gpu_session_wait(cr_gpu_session *s, cr_gpu_progress_fn progress,
                                     cr_gpu_cancel_fn cancelled, void *ctx, double *seconds,
                                     cr_err *err)

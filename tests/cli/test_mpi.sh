@@ -4,6 +4,9 @@
 # 1-frame run (rows spread over the ranks); more ranks than rows is refused;
 # a rank killed with SIGKILL ends the run, the finished frames are kept and
 # complete, and curray --resume finishes them into the one-process files.
+# The backend: --backend auto gives the one-process run's; --backend cuda
+# gives the one-process GPU run's files where a GPU is usable, and is
+# refused by each rank where none is (the case on CI).
 #
 #   bash tests/cli/test_mpi.sh path/to/curray path/to/curray_mpi [repository root]
 #
@@ -62,6 +65,42 @@ if [ $RC = 0 ] && has "rank 0 received" && same one1 mpi1 1 >diff1.txt 2>&1; the
     ok "1 frame on 2 ranks (rows spread): the files of a one-process run, byte for byte"
 else
     bad "1 frame on 2 ranks" "rc $RC; $(cat diff1.txt)"
+fi
+
+# --- the backend: --backend auto is the one-process run's (the CPU here
+# when no GPU is usable); --backend cuda traces on every rank's GPU (local
+# rank k on the k-th usable GPU of its node, modulo their number), or, when
+# a rank has none, is refused by that rank before anything is written --------
+backend() { sed -n 's/^  backend  *//p' "$1/info.txt"; }
+b1=$(backend one3)
+bm=$(backend mpi3)
+if [ -n "$b1" ] && [ "$bm" = "$b1 on each of 2 MPI ranks" ]; then
+    ok "--backend auto: the one-process backend on each rank ($bm)"
+else
+    bad "--backend auto on 2 ranks" "one process '$b1', MPI '$bm'"
+fi
+if "$CURRAY" -s kerr.yml -o gpu1 -x 97 -y 73 -t icrd -a --backend cuda >gpu1.log 2>&1; then
+    # a usable GPU: both ranks share it (or take one each) and the files are
+    # the one-process GPU run's, for frames and for rows spread over ranks
+    "$CURRAY" -s orbit.yml -o gpu3 -x 96 -y 72 -f 3 -t icrd -a --backend cuda >/dev/null 2>&1
+    OUT=$(timeout 120 "${MPIRUN[@]}" "$CURRAY_MPI" -s orbit.yml -o mgpu3 -x 96 -y 72 -f 3 -t icrd -a --backend cuda 2>&1)
+    RC=$?
+    OUT+=$(timeout 120 "${MPIRUN[@]}" "$CURRAY_MPI" -s kerr.yml -o mgpu1 -x 97 -y 73 -t icrd -a --backend cuda 2>&1)
+    RC=$((RC + $?))
+    if [ $RC = 0 ] && same gpu3 mgpu3 3 >diffg.txt 2>&1 && same gpu1 mgpu1 1 >>diffg.txt 2>&1 &&
+       [ "$(backend mgpu1)" = "$(backend gpu1) on each of 2 MPI ranks" ]; then
+        ok "--backend cuda on 2 ranks: the files of a one-process GPU run (3 frames; 1 frame by rows)"
+    else
+        bad "--backend cuda on 2 ranks" "rc $RC; $(cat diffg.txt)"
+    fi
+else
+    OUT=$(timeout 120 "${MPIRUN[@]}" "$CURRAY_MPI" -s kerr.yml -o nogpu -x 8 -y 6 -a --backend cuda 2>&1)
+    RC=$?
+    if [ $RC != 0 ] && has "MPI rank 0 on " && has "MPI rank 1 on " && has ": --backend cuda: " && [ ! -e nogpu ]; then
+        ok "--backend cuda on 2 ranks without a usable GPU is refused by each rank (no GPU here: the GPU MPI run is not tested)"
+    else
+        bad "--backend cuda without a GPU" "rc $RC"
+    fi
 fi
 
 # --- more ranks than rows --------------------------------------------------
