@@ -6,12 +6,18 @@
 # With FFmpeg (a video_probe binary): a 3-frame run of odd size 81x61 at
 # video.fps 24 gives c.mp4 and r.mp4 that libavformat reads back as H.264
 # yuv420p, 3 frames, 82x62 (padded to even), 24/1 fps, whose first frame
-# matches c_0.png / r_0.png with a luma PSNR >= 35 dB (RGB >= 20 dB: yuv420p
-# halves the chroma resolution, which alone costs 28 dB RGB at the saturated
-# chessboard edges of this size even when coded losslessly; README "Videos");
-# the PNG frames stay, and
+# matches c_0.png / r_0.png with a luma PSNR >= 35 dB (this chessboard
+# scene's RGB PSNR is only a sanity bound, >= 20 dB: yuv420p halves the
+# chroma resolution, which alone costs 28 dB RGB at its saturated edges at
+# this size even when coded losslessly; README "Videos"). The issue's
+# requirement, the first frame matching c_0.png with an RGB PSNR >= 35 dB
+# (all three channels), is checked on a Keplerian disc before a starry sky
+# (scenes/keplerian-interstellar.yml, 161x121, padded), whose colours are
+# not dominated by hard chroma edges: 39.8 dB when written (41.5 to 44.7 dB
+# for the other Keplerian scenes); the same measure of c.mp4 against r_0.png
+# is far below. The PNG frames stay, and
 # video.keep_frames: false removes them. Without FFmpeg ("none"): -t v is
-# refused with the message that says how to get it. About 5 s.
+# refused with the message that says how to get it. About 6 s.
 set -u
 
 CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
@@ -69,7 +75,30 @@ if awk -v p="$wrong" 'BEGIN { exit !(p < 20) }'; then
 else
     bad "PSNR of a wrong frame" "$wrong dB"
 fi
-if ! ls -a v | grep -q '\.tmp\.'; then
+
+# the issue's measure: a Keplerian disc and a sky, RGB PSNR >= 35 dB
+cp "$ROOT/scenes/keplerian-interstellar.yml" disc.yml
+cp "$ROOT/scenes/sky.png" sky.png
+run -s disc.yml -o kd -x 161 -y 121 -f 2 -t icrv -a
+crgb=$(probe kd/c.mp4 kd/c_0.png psnr_rgb)
+cy=$(probe kd/c.mp4 kd/c_0.png psnr_y)
+ry=$(probe kd/r.mp4 kd/r_0.png psnr_y)
+if [ $RC = 0 ] && [ "$(probe kd/c.mp4 kd/c_0.png size)" = 162x122 ] &&
+   awk -v q="$crgb" -v p="$cy" -v r="$ry" 'BEGIN { exit !(q >= 35 && p >= 35 && r >= 35) }'; then
+    ok "Keplerian disc 161x121: c.mp4's first frame against c_0.png: RGB PSNR $crgb dB >= 35 (luma $cy); r.mp4 luma $ry dB >= 35"
+else
+    OUT="$OUT
+$("$PROBE" kd/c.mp4 kd/c_0.png 2>&1)"
+    bad "Keplerian disc video" "rc $RC; expected RGB PSNR >= 35 dB, got '$crgb'; luma '$cy', r luma '$ry'"
+fi
+wrong=$(probe kd/c.mp4 kd/r_0.png psnr_rgb)
+if awk -v p="$wrong" 'BEGIN { exit !(p < 25) }'; then
+    ok "Keplerian c.mp4 against r_0.png: RGB PSNR $wrong dB, far below 35"
+else
+    bad "RGB PSNR of a wrong frame" "$wrong dB"
+fi
+
+if ! ls -a v kd | grep -q '\.tmp\.'; then
     ok "no temporary file left"
 else
     bad "temporaries" "$(ls -a v)"
