@@ -11,6 +11,13 @@
  * of every scene file in scenes/. The observer at infinity exists under mino
  * only (cr_trace_pixel traces it with mino whatever the frame's integrator
  * says, and the scene loader refuses rk4 there), so those cases run once.
+ * Antialiasing (raytracer.samples, issue 12) must do the same on both
+ * backends: the moving-observer fisheye case again with 3 x 3 samples (the
+ * image circle's edge is antialiased), and the scene files in bk_aa_scenes
+ * (a Keplerian disc with plunging matter and physical inputs, mass in solar
+ * masses and accretion rate in Eddington units) with 3 x 3 samples; these
+ * run under mino only (the sub-rays go through the same cr_trace_point as
+ * every ray, for either integrator) to keep the test short.
  *
  * Tolerance: outcome and colour identical for >= 99.9 % of the pixels. Device
  * code contracts multiply-adds into FMA and its sin/cos/atan2 round
@@ -22,8 +29,11 @@
  * colour boundary, such as a chessboard cell edge that a symmetric ray meets
  * at phi = 0 exactly: it is counted and printed apart ("same hit point") and
  * not held against the 0.1 %. Where both agree, the redshift must agree to
- * 1e-6 for >= 99.9 % of the pixels. The first mismatches and the worst
- * differences are printed.
+ * 1e-6 for >= 99.9 % of the pixels, and so must the bolometric brightness
+ * bolo = g^4 F / F_max of Keplerian disc pixels (-1 elsewhere) to
+ * BK_BOLO_TOL relative (of max(1, |bolo|)): with g to 1e-6, g^4 moves by
+ * 4e-6 relative, and F(r) at a hit radius that differs by rounding by far
+ * less. The first mismatches and the worst differences are printed.
  *
  * Without a usable CUDA device (or in a build without CUDA) the test prints
  * "SKIPPED: no CUDA device (<reason>)" and is reported as skipped. Setting
@@ -53,6 +63,7 @@
 /* allowed fraction of mismatching pixels */
 #define BK_MAX_MISMATCH 0.001
 #define BK_Z_TOL 1e-6
+#define BK_BOLO_TOL 1e-5
 /* hit points closer than this (relative in r, radians in phi) are the same */
 #define BK_HIT_TOL 1e-9
 
@@ -213,9 +224,14 @@ static int bk_builtin(int k, bk_case *c)
         break;
     case 6: /* issue 13: an observer moving inside the ergosphere (0.5 c radially
              * in, 0.3 c along -phi, as the ZAMO measures) with a 270 deg
-             * fisheye, a disc and a sky at infinity */
-        bk_base(c, "moving observer in the ergosphere, 270 deg fisheye", 1.0, 0.95, 0.0, 1.8,
-                70.0 * BK_DEG);
+             * fisheye (its corners outside the image circle), a disc and a sky
+             * at infinity; case 7: the same with 3 x 3 samples */
+    case 7:
+        bk_base(c,
+                k == 6 ? "moving observer in the ergosphere, 270 deg fisheye"
+                       : "moving observer in the ergosphere, 270 deg fisheye, 3x3 samples",
+                1.0, 0.95, 0.0, 1.8, 70.0 * BK_DEG);
+        c->f.samples = k == 6 ? 1 : 3;
         c->f.observer.motion = CR_MOTION_VELOCITY;
         c->f.observer.v[0] = -0.5;
         c->f.observer.v[2] = -0.3;
@@ -287,28 +303,38 @@ static int bk_load_scene(const char *path, const char *name, cr_scene *s)
     return 0;
 }
 
-/* Frame 0 of the loaded scene s, named name, with the given integrator into
- * c (the scene must stay loaded while c is used: the sky texture is the
- * scene's). Returns 0, or -1 after printing why. */
-static int bk_from_scene(const cr_scene *s, const char *name, int integrator, bk_case *c)
+/* Frame 0 of the loaded scene s, named name, with the given integrator and
+ * samples x samples rays per pixel into c (the scene must stay loaded while
+ * c is used: the sky texture is the scene's). Returns 0, or -1 after
+ * printing why. */
+static int bk_from_scene(const cr_scene *s, const char *name, int integrator, int samples,
+                         bk_case *c)
 {
     cr_trace_settings ts;
     cr_err err;
     memset(c, 0, sizeof *c);
-    snprintf(c->name, sizeof c->name, "scenes/%s", name);
+    if (samples > 1)
+        snprintf(c->name, sizeof c->name, "scenes/%s, %dx%d samples", name, samples, samples);
+    else
+        snprintf(c->name, sizeof c->name, "scenes/%s", name);
     ts.integrator = integrator;
     ts.tolerance = CR_DEFAULT_TOLERANCE;
     ts.step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
     ts.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
     ts.max_steps = CR_DEFAULT_MAX_STEPS;
     ts.max_turns = CR_DEFAULT_MAX_TURNS;
-    ts.samples = 1;
+    ts.samples = samples;
     if (cr_scene_frame(s, 0, 1, BK_W, BK_H, &ts, &c->f, c->spheres, &err) != 0) {
         printf("FAIL %s: frame 0: %s\n", c->name, err.msg);
         return -1;
     }
     return 0;
 }
+
+/* Scene files rendered again with 3 x 3 samples: a Keplerian disc with
+ * plunging matter inside the ISCO and physical inputs (mass_msun, mdot_edd),
+ * whose Doppler-shifted colour, g and bolometric map must agree. */
+static const char *const bk_aa_scenes[] = {"keplerian-face-on.yml"};
 
 /* ---- the comparison ----------------------------------------------------- */
 
@@ -368,8 +394,9 @@ static int bk_compare(const char *name, const char *other, const cr_frame *f, co
 {
     int w = f->width, h = f->height, i, j, failures = 0;
     long n = (long)w * h, mismatch = 0, off_edge = 0, z_bad = 0, reported = 0, same_hit = 0;
+    long bolo_bad = 0, n_bolo = 0;
     long count[CR_OUT_COUNT_] = {0};
-    double worst_dz = 0.0;
+    double worst_dz = 0.0, worst_db = 0.0;
     int worst_dz_i = -1, worst_dz_j = -1, worst_dc = 0, worst_dc_i = -1, worst_dc_j = -1;
     long max_bad = (long)floor(BK_MAX_MISMATCH * (double)n);
 
@@ -403,8 +430,14 @@ static int bk_compare(const char *name, const char *other, const cr_frame *f, co
                 }
             } else {
                 double dz = fabs(a->redshift - b->redshift);
+                double db = fabs(a->bolo - b->bolo) / fmax(1.0, fabs(a->bolo));
                 if (!(dz <= BK_Z_TOL)) /* also catches NaN */
                     z_bad++;
+                if (!(db <= BK_BOLO_TOL))
+                    bolo_bad++;
+                if (!(db <= worst_db))
+                    worst_db = db;
+                n_bolo += a->bolo >= 0.0;
                 if (!(dz <= worst_dz)) {
                     worst_dz = dz;
                     worst_dz_i = i;
@@ -413,11 +446,13 @@ static int bk_compare(const char *name, const char *other, const cr_frame *f, co
             }
         }
 
-    printf("%s: %ld pixels (horizon %ld, disc %ld, sphere %ld, sky %ld, error %ld, limit %ld); "
+    printf("%s: %ld pixels (horizon %ld, disc %ld, sphere %ld, sky %ld, error %ld, limit %ld, "
+           "outside %ld); "
            "%ld mismatch%s (%.3f %%, %ld off an edge) and %ld with the same hit point on a "
            "colour boundary; worst colour difference %d",
            name, n, count[CR_OUT_HORIZON], count[CR_OUT_DISC], count[CR_OUT_SPHERE],
-           count[CR_OUT_SKY], count[CR_OUT_ERROR], count[CR_OUT_LIMIT], mismatch,
+           count[CR_OUT_SKY], count[CR_OUT_ERROR], count[CR_OUT_LIMIT], count[CR_OUT_OUTSIDE],
+           mismatch,
            mismatch == 1 ? "" : "es", 100.0 * (double)mismatch / (double)n, off_edge, same_hit,
            worst_dc);
     if (worst_dc_i >= 0)
@@ -425,7 +460,11 @@ static int bk_compare(const char *name, const char *other, const cr_frame *f, co
     printf("; worst redshift difference %.3g", worst_dz);
     if (worst_dz_i >= 0)
         printf(" at (%d,%d)", worst_dz_i, worst_dz_j);
-    printf(" (%ld above %g)\n", z_bad, BK_Z_TOL);
+    printf(" (%ld above %g)", z_bad, BK_Z_TOL);
+    if (n_bolo > 0)
+        printf("; bolometric on %ld pixels, worst relative difference %.3g (%ld above %g)",
+               n_bolo, worst_db, bolo_bad, BK_BOLO_TOL);
+    printf("\n");
 
     if (mismatch > max_bad) {
         printf("FAIL %s: %ld mismatching pixels, at most %ld allowed\n", name, mismatch, max_bad);
@@ -439,6 +478,11 @@ static int bk_compare(const char *name, const char *other, const cr_frame *f, co
     if (z_bad > max_bad) {
         printf("FAIL %s: %ld pixels differ in redshift by more than %g\n", name, z_bad,
                BK_Z_TOL);
+        failures++;
+    }
+    if (bolo_bad > max_bad) {
+        printf("FAIL %s: %ld pixels differ in bolometric brightness by more than %g\n", name,
+               bolo_bad, BK_BOLO_TOL);
         failures++;
     }
     return failures;
@@ -501,8 +545,8 @@ static void test_cpu_vs_gpu(void **state)
     assert_non_null(c);
     for (k = 0; bk_builtin(k, c); k++) {
         for (m = 0; m < 2; m++) {
-            if (c->f.obs_at_inf && integrators[m] != CR_INTEG_MINO)
-                continue; /* traced with mino whatever the field says */
+            if ((c->f.obs_at_inf || c->f.samples > 1) && integrators[m] != CR_INTEG_MINO)
+                continue; /* traced with mino whatever the field says; antialiasing: mino only */
             c->f.integrator = integrators[m];
             failures += bk_run_case(c, device);
             n_runs++;
@@ -520,7 +564,7 @@ static void test_cpu_vs_gpu(void **state)
             for (m = 0; m < 2; m++) {
                 if (s.obs_at_infinity && integrators[m] != CR_INTEG_MINO)
                     continue;
-                if (bk_from_scene(&s, files[k], integrators[m], c) == 0)
+                if (bk_from_scene(&s, files[k], integrators[m], 1, c) == 0)
                     failures += bk_run_case(c, device);
                 else
                     failures++;
@@ -534,6 +578,23 @@ static void test_cpu_vs_gpu(void **state)
         n_cases++;
     }
     free(files);
+
+    for (k = 0; k < (int)(sizeof bk_aa_scenes / sizeof bk_aa_scenes[0]); k++) {
+        char path[4096];
+        cr_scene s;
+        snprintf(path, sizeof path, "%s/scenes/%s", CR_SOURCE_DIR, bk_aa_scenes[k]);
+        if (bk_load_scene(path, bk_aa_scenes[k], &s) != 0) {
+            failures++;
+            continue;
+        }
+        if (bk_from_scene(&s, bk_aa_scenes[k], CR_INTEG_MINO, 3, c) == 0)
+            failures += bk_run_case(c, device);
+        else
+            failures++;
+        n_runs++;
+        n_cases++;
+        cr_scene_free(&s);
+    }
     free(c);
     printf("%d cases, %d renders compared, %d failed requirement%s\n", n_cases, n_runs,
            failures, failures == 1 ? "" : "s");
