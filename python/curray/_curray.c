@@ -181,20 +181,7 @@ static void cr_py_progress(void *ctx, int rows_done, int rows_total)
     (void)cr_py_poll(ctx);
 }
 
-/* The GPUs the command line would choose (cr_gpu_devices, then
- * cr_gpu_select with the configuration's enabled ones): their count, or 0
- * with the reason in err. */
-static int cr_py_gpu_choose(const int *enabled, int n_enabled, int *chosen, int max_chosen,
-                         cr_err *err)
-{
-    cr_gpu_device table[CR_MAX_GPUS];
-    int n = cr_gpu_devices(table, CR_MAX_GPUS, err);
-    if (n > CR_MAX_GPUS)
-        n = CR_MAX_GPUS;
-    return n > 0 ? cr_gpu_select(table, n, enabled, n_enabled, chosen, max_chosen, err) : 0;
-}
-
-/* The command line's backend choice (--backend, cr_py_gpu_choose): "cuda"
+/* The command line's backend choice (--backend, cr_gpu_choose): "cuda"
  * when asked for, or ("auto") when a GPU enabled in the configuration is
  * usable, else the CPU. Returns the device to trace on, -1 for the CPU, or
  * -2 with ValueError set ("cuda" without a usable GPU: the reason; a name
@@ -211,7 +198,7 @@ static int cr_py_backend(const char *backend, const cr_sysconfig *cfg)
     }
     if (cpu)
         return -1;
-    if (cr_py_gpu_choose(cfg->gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS, &gerr) > 0)
+    if (cr_gpu_choose(cfg->gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS, &gerr) > 0)
         return devices[0];
     if (cuda) {
         PyErr_Format(PyExc_ValueError, "backend cuda: %s", gerr.msg);
@@ -331,7 +318,7 @@ static PyObject *cr_py_backend_info(PyObject *self, PyObject *unused)
     (void)self;
     (void)unused;
     cr_sysconfig_defaults(&cfg);
-    if (cr_py_gpu_choose(cfg.gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS, &gerr) > 0)
+    if (cr_gpu_choose(cfg.gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS, &gerr) > 0)
         return Py_BuildValue("(Nis)", PyBool_FromLong(cr_gpu_built()), devices[0], gerr.msg);
     return Py_BuildValue("(NOs)", PyBool_FromLong(cr_gpu_built()), Py_None, gerr.msg);
 }

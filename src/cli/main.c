@@ -20,7 +20,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -501,33 +500,18 @@ static void cr_log_scene(cr_run *run)
  * in memory: per worker a frame of cr_pixel (two for a GPU worker, whose
  * session holds the frame being written and the next one), plus the 8-bit
  * image written from it and the per-frame statistics. The limit is the physical memory, or
- * the address-space or data limit (ulimit -v, -d) when lower. */
+ * the address-space or data limit (ulimit -v, -d) when lower
+ * (cr_cpu_memory_check, which the Python package uses too). */
 static int cr_check_memory(const cr_run *run, int n_workers, cr_err *err)
 {
-    const double gib = 1024.0 * 1024.0 * 1024.0;
     double px = (double)run->cli.width * (double)run->cli.height;
     double need = px * ((double)sizeof(cr_pixel) * n_workers * (run->use_cuda ? 2 : 1) + 3.0) +
                   (double)run->cli.frames * (double)(sizeof(cr_frame_stats) + 1);
-    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    double have = pages > 0 && page > 0 ? (double)pages * (double)page : 0.0;
-    const char *what = "the machine's memory";
-    struct rlimit rl;
-    if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
-        (have <= 0.0 || (double)rl.rlim_cur < have)) {
-        have = (double)rl.rlim_cur;
-        what = "the address-space limit (ulimit -v)";
-    }
-    if (getrlimit(RLIMIT_DATA, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
-        (have <= 0.0 || (double)rl.rlim_cur < have)) {
-        have = (double)rl.rlim_cur;
-        what = "the data-size limit (ulimit -d)";
-    }
-    if (have > 0.0 && need > have)
-        return cr_err_set(err,
-                          "a %ldx%ld frame (%ld frame%s) needs about %.2f GiB of memory, more "
-                          "than the %.2f GiB of %s; choose a smaller -x/-y",
+    cr_err mem;
+    if (cr_cpu_memory_check(need, &mem))
+        return cr_err_set(err, "a %ldx%ld frame (%ld frame%s) %s; choose a smaller -x/-y",
                           run->cli.width, run->cli.height, run->cli.frames,
-                          run->cli.frames > 1 ? "s" : "", need / gib, have / gib, what);
+                          run->cli.frames > 1 ? "s" : "", mem.msg);
     return 0;
 }
 
@@ -644,22 +628,16 @@ static void cr_mpi_skip_gpus(const cr_run *run)
 }
 
 /* CUDA when asked for or (auto) when an enabled GPU is usable, else the CPU
- * (cr_gpu_select; in an MPI run one GPU per rank, cr_mpi_gpus). Fills
+ * (cr_gpu_choose; in an MPI run one GPU per rank, cr_mpi_gpus). Fills
  * devices, n_workers, use_cuda and backend_name. */
 static int cr_choose_backend(cr_run *run)
 {
-    cr_gpu_device table[CR_MAX_GPUS];
     cr_err gerr;
     int n;
     run->use_cuda = 0;
     run->n_workers = 1;
     if (run->cli.backend != CR_BACKEND_CPU) {
-        n = cr_gpu_devices(table, CR_MAX_GPUS, &gerr);
-        if (n > CR_MAX_GPUS)
-            n = CR_MAX_GPUS; /* gpus: numbers only go this far */
-        if (n > 0)
-            n = cr_gpu_select(table, n, run->cfg.gpu_enabled, CR_MAX_GPUS, run->devices,
-                              CR_MAX_GPUS, &gerr);
+        n = cr_gpu_choose(run->cfg.gpu_enabled, CR_MAX_GPUS, run->devices, CR_MAX_GPUS, &gerr);
         if (run->mpi_size > 1)
             n = cr_mpi_gpus(run, n, &gerr);
         if (n > 0) {

@@ -50,6 +50,13 @@ int cr_gpu_devices(cr_gpu_device *table, int max, cr_err *err);
 int cr_gpu_select(const cr_gpu_device *table, int n_devices, const int *enabled, int n_enabled,
                   int *chosen, int max_chosen, cr_err *err);
 
+/* The devices --backend auto|cuda trace on: cr_gpu_devices (at most
+ * CR_MAX_GPUS of them), then cr_gpu_select with the configuration's enabled
+ * flags. Returns the count chosen, err as cr_gpu_select leaves it; or 0 with
+ * why in err (no CUDA in this build, no driver, no device, none usable or
+ * enabled). The command line and the Python package choose with it. */
+int cr_gpu_choose(const int *enabled, int n_enabled, int *chosen, int max_chosen, cr_err *err);
+
 /* The GPU of one MPI rank, a pure function (no MPI, no CUDA): the ranks on
  * a node are numbered 0..local_size-1 (their local rank), and local rank k
  * takes chosen[k % n_chosen], chosen[] being what cr_gpu_select chose on

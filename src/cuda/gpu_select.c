@@ -1,5 +1,6 @@
-/* curray cuda backend: which devices to render on (gpu.h, cr_gpu_select).
- * Plain C without CUDA calls, built into every build (with and without
+/* curray cuda backend: which devices to render on (gpu.h, cr_gpu_select,
+ * cr_gpu_choose). Plain C without CUDA calls of its own (cr_gpu_choose asks
+ * cr_gpu_devices), built into every build (with and without
  * CUDA) so that the selection is the same, and unit-tested with made-up
  * device tables (tests/test_gpu_select.c). */
 #include <stdarg.h>
@@ -7,6 +8,7 @@
 #include <string.h>
 
 #include "gpu.h"
+#include "../io/sysconfig.h" /* CR_MAX_GPUS */
 
 /* Append printf-style text to msg (size n), cut at the end. */
 static void cr_gpu_append(char *msg, size_t n, const char *fmt, ...)
@@ -67,6 +69,15 @@ int cr_gpu_select(const cr_gpu_device *table, int n_devices, const int *enabled,
     else
         cr_err_set(err, "%s", skipped);
     return 0;
+}
+
+int cr_gpu_choose(const int *enabled, int n_enabled, int *chosen, int max_chosen, cr_err *err)
+{
+    cr_gpu_device table[CR_MAX_GPUS];
+    int n = cr_gpu_devices(table, CR_MAX_GPUS, err);
+    if (n > CR_MAX_GPUS)
+        n = CR_MAX_GPUS; /* gpus: numbers only go this far */
+    return n > 0 ? cr_gpu_select(table, n, enabled, n_enabled, chosen, max_chosen, err) : 0;
 }
 
 int cr_gpu_for_local_rank(const int *chosen, int n_chosen, int local_rank, int local_size,
