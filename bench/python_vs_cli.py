@@ -5,8 +5,8 @@
 
 Each run times, alternately, (a) the command line as a fresh process
 (`curray -s scene -o tmp -x W -y H -t i -a true -q --threads 2 --backend cpu`:
-load, render, write info.txt) and (b) `curray.render(scene, W, H, threads=2)` in this
-process (load, render, NumPy arrays of every CSV field). Prints the median
+load, render, write info.txt) and (b) `curray.render(scene, W, H, threads=2,
+backend="cpu")` in this process (load, render, NumPy arrays of every CSV field). Prints the median
 and smallest wall time of each, the ratio of the medians and the median of
 the ratios of adjacent pairs (steadier on a loaded machine); the render itself is the same C code, so
 the ratio shows the cost of the Python layer (argument conversion, the
@@ -42,14 +42,14 @@ with tempfile.TemporaryDirectory() as tmp:
     cmd = [bin_, "-s", scene, "-o", tmp, "-x", str(w), "-y", str(h), "-t", "i", "-a", "true",
            "-q", "--threads", "2", "--backend", "cpu"]
     subprocess.run(cmd, check=True)  # warm-up (page cache)
-    curray.render(scene, w, h, threads=2)
+    curray.render(scene, w, h, threads=2, backend="cpu")
     for _ in range(runs):
         t0, c0 = time.perf_counter(), cpu(resource.RUSAGE_CHILDREN)
         subprocess.run(cmd, check=True)
         cli.append(time.perf_counter() - t0)
         cli_cpu.append(cpu(resource.RUSAGE_CHILDREN) - c0)
         t0, c0 = time.perf_counter(), cpu(resource.RUSAGE_SELF)
-        img = curray.render(scene, w, h, threads=2)
+        img = curray.render(scene, w, h, threads=2, backend="cpu")
         py.append(time.perf_counter() - t0)
         py_cpu.append(cpu(resource.RUSAGE_SELF) - c0)
 mc, mp = statistics.median(cli), statistics.median(py)
