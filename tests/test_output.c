@@ -622,6 +622,36 @@ static void test_redshift_color(void **state)
     assert_rgb(rs(CR_OUT_LIMIT, 1.0), 0, 0, 0);
     assert_rgb(rs(CR_OUT_NONE, 1.0), 0, 0, 0);
     assert_rgb(rs(CR_OUT_DISC, NAN), 0, 0, 0);
+
+    /* redshift_sky: the sky by its own ratio, same hand values; everything
+     * else as above */
+    {
+        cr_pixel p;
+        memset(&p, 0, sizeof p);
+        p.outcome = CR_OUT_SKY;
+        p.redshift = 1.0;
+        assert_rgb(cr_redshift_sky_color(&p), 128, 0, 128);
+        p.redshift = 3.0;
+        assert_rgb(cr_redshift_sky_color(&p), 52, 0, 203);
+        p.redshift = 0.1;
+        assert_rgb(cr_redshift_sky_color(&p), 239, 0, 16);
+        p.redshift = -1.0; /* undefined */
+        assert_rgb(cr_redshift_sky_color(&p), 0, 0, 0);
+        p.redshift = NAN;
+        assert_rgb(cr_redshift_sky_color(&p), 0, 0, 0);
+        for (int o = 0; o < CR_OUT_COUNT_; o++)
+            for (int k = 0; k < 4; k++) {
+                static const double zs[] = {-1.0, 0.0, 0.5, 3.0};
+                cr_rgb a, b;
+                if (o == CR_OUT_SKY)
+                    continue;
+                p.outcome = (uint8_t)o;
+                p.redshift = zs[k];
+                a = cr_redshift_sky_color(&p);
+                b = cr_redshift_color(&p);
+                assert_true(a.r == b.r && a.g == b.g && a.b == b.b);
+            }
+    }
 }
 
 /* --- frame files ------------------------------------------------------------ */
@@ -724,7 +754,7 @@ static void test_frame_pngs(void **state)
 
     make_frame(px, W, H);
     assert_int_equal(cr_output_color_png(f->dir, 3, px, W, H, &err), 0);
-    assert_int_equal(cr_output_redshift_png(f->dir, 3, px, W, H, &err), 0);
+    assert_int_equal(cr_output_redshift_png(f->dir, 3, px, W, H, 0, &err), 0);
     join(path, f, "c_3.png");
     assert_int_equal(cr_png_read(path, 0, &rgb, &w, &h, &err), 0);
     assert_int_equal(w, W);
@@ -737,6 +767,15 @@ static void test_frame_pngs(void **state)
     assert_int_equal(cr_png_read(path, 0, &rgb, &w, &h, &err), 0);
     for (int i = 0; i < W * H; i++) {
         cr_rgb c = cr_redshift_color(&px[i]);
+        assert_rgb(((cr_rgb){rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]}), c.r, c.g, c.b);
+    }
+    free(rgb);
+    /* redshift_sky: the sky pixels (outcome 4) coloured by their ratio */
+    assert_int_equal(cr_output_redshift_png(f->dir, 4, px, W, H, 1, &err), 0);
+    join(path, f, "r_4.png");
+    assert_int_equal(cr_png_read(path, 0, &rgb, &w, &h, &err), 0);
+    for (int i = 0; i < W * H; i++) {
+        cr_rgb c = cr_redshift_sky_color(&px[i]);
         assert_rgb(((cr_rgb){rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]}), c.r, c.g, c.b);
     }
     free(rgb);

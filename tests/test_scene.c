@@ -124,8 +124,12 @@ static void test_minimal_defaults(void **state)
     assert_true(s.sky_color.r == 0 && s.sky_color.g == 0 && s.sky_color.b == 0);
     assert_true(s.horizon_color.r == 255 && s.horizon_color.g == 0 && s.horizon_color.b == 0);
     assert_true(s.error_color.r == 0 && s.error_color.g == 0 && s.error_color.b == 255);
+    assert_int_equal(s.redshift_sky, 0); /* the paper's black sky in r_<k>.png */
     cr_scene_free(&s);
     cr_scene_free(&s); /* freeing twice is harmless */
+    load_ok(BASE "redshift_sky: true\n", &s);
+    assert_int_equal(s.redshift_sky, 1);
+    cr_scene_free(&s);
 }
 
 static void test_full_scene_file(void **state)
@@ -1111,7 +1115,7 @@ static void test_errors_syntax_and_shape(void **state)
         /* keys */
         {BASE "foo: 1\n", "scene.yml:10:1: unknown key 'foo' at the top level",
          "(expected one of: metric, observer, accretion, skymap, sphere, spheres, sky_color, "
-         "horizon_color, error_color, limit_color)"},
+         "horizon_color, error_color, limit_color, redshift_sky)"},
         {BASE "observer: {}\n", "scene.yml:10:1: observer: ",
          "duplicate key 'observer' (first given at line 5, column 1)"},
         {"metric: {m: 1, a: 0, q: 0, m: 2}\n" OBSL, "scene.yml:1:28: metric.m: ", "duplicate key 'm'"},
@@ -1141,6 +1145,7 @@ static void test_errors_syntax_and_shape(void **state)
 static void test_errors_values(void **state)
 {
     static const err_case cases[] = {
+        {BASE "redshift_sky: 2\n", "scene.yml:10:15: redshift_sky: ", "expected true or false"},
         /* numbers */
         {MET("nan"), "scene.yml:2:6: metric.m: ", "expected a finite number, got \"nan\""},
         {MET(".nan"), "scene.yml:2:6: metric.m: ", "expected a finite number"},

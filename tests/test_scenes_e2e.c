@@ -254,7 +254,7 @@ static shot *render(const char *path, int k, int n, double dphi)
     run.output_types = "icrd";
     run.version = "test";
     if (cr_output_color_png(s->dir, k, s->px, W, H, &err) ||
-        cr_output_redshift_png(s->dir, k, s->px, W, H, &err) ||
+        cr_output_redshift_png(s->dir, k, s->px, W, H, 0, &err) ||
         cr_output_csv(s->dir, k, s->px, W, H, &err) ||
         cr_info_write(s->dir, &run, &s->scene, &cfg, &st, 1, &err))
         fail_msg("%s: %s", path, err.msg);
@@ -442,7 +442,7 @@ static const struct {
 #define N_FRAMES ((int)(sizeof g_frames / sizeof g_frames[0]))
 
 static const char *const g_outcome_words[CR_OUT_COUNT_] = {
-    "none", "horizon", "disc", "sphere", "sky", "error", "limit"};
+    "none", "horizon", "disc", "sphere", "sky", "error", "limit", "outside"};
 
 /* Round trip of the files and the facts every scene must satisfy. */
 static void check_shot(const shot *s, const char *name)
@@ -507,6 +507,18 @@ static void check_shot(const shot *s, const char *name)
         }
 
         switch (p->outcome) {
+        case CR_OUT_OUTSIDE: {
+            /* a fisheye pixel beyond the image circle of angular radius
+             * max(hfov, vfov)/2, written here in pixels: not traced, black
+             * everywhere, redshift -1 */
+            double dx = (i % W + 0.5 - 0.5 * W) * f->observer.hfov / W,
+                   dy = (i / W + 0.5 - 0.5 * H) * f->observer.vfov / H;
+            assert_int_equal(f->observer.projection, CR_PROJ_FISHEYE);
+            assert_true(hypot(dx, dy) > 0.5 * fmax(f->observer.hfov, f->observer.vfov));
+            assert_true(r->z == -1.0 && p->steps == 0);
+            assert_true(rgb_is(z, 0, 0, 0) && rgb_is(c, 0, 0, 0));
+            break;
+        }
         case CR_OUT_HORIZON:
             assert_true(r->z == 0.0);
             assert_true(rgb_is(z, 255, 0, 0));
@@ -581,6 +593,9 @@ static void check_shot(const shot *s, const char *name)
              "horizon %lld, disc %lld, sphere %lld, sky %lld, error %lld, limit %lld\n",
              s->counts[CR_OUT_HORIZON], s->counts[CR_OUT_DISC], s->counts[CR_OUT_SPHERE],
              s->counts[CR_OUT_SKY], s->counts[CR_OUT_ERROR], s->counts[CR_OUT_LIMIT]);
+    if (s->counts[CR_OUT_OUTSIDE] > 0)
+        snprintf(want + strlen(want) - 1, sizeof want - strlen(want) + 1,
+                 ", outside the image %lld\n", s->counts[CR_OUT_OUTSIDE]);
     if (!strstr(s->info, want))
         fail_msg("%s: info.txt lacks '%s'", name, want);
     snprintf(want, sizeof want, "Finished 1 of %d frames", s->n);

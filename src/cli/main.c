@@ -188,7 +188,7 @@ static int cr_write_frame_file(cr_worker *w, char t, int k, const cr_pixel *px, 
     if (t == 'c')
         rc = cr_output_color_png(dir, k, px, width, height, err);
     else if (t == 'r')
-        rc = cr_output_redshift_png(dir, k, px, width, height, err);
+        rc = cr_output_redshift_png(dir, k, px, width, height, run->scene.redshift_sky, err);
     else if (t == 'b')
         rc = cr_output_bolometric_png(dir, k, px, width, height, err);
     else if (t == 'f')

@@ -249,6 +249,8 @@ static void cr_info_scene(FILE *fp, const cr_scene *s)
     cr_put_rgb(fp, "sky", s->sky_color);
     cr_put_rgb(fp, "horizon", s->horizon_color);
     cr_put_rgb(fp, "error", s->error_color);
+    if (s->redshift_sky)
+        fprintf(fp, "  %-22s %s\n", "sky in redshift image", "coloured by its shift");
 }
 
 static const char *cr_yes_no(int v)

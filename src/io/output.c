@@ -30,10 +30,20 @@ static uint8_t cr_to_byte(double v)
  * infinitely redshifted. A negative ratio (-1: source inside the ergosphere)
  * on a disc or sphere is green; a NaN ratio there is black like every pixel
  * without a source (sky, error, limit, outside, none). */
+/* (6.9.1) for z >= 0 (+inf: pure blue). */
+static cr_rgb cr_shift_rgb(double z)
+{
+    cr_rgb c = {0, 0, 0};
+    double b = 255.0 * atan(z) * (2.0 / CR_PI);
+    c.r = cr_to_byte(255.0 - b);
+    c.b = cr_to_byte(b);
+    return c;
+}
+
 cr_rgb cr_redshift_color(const cr_pixel *p)
 {
     cr_rgb c = {0, 0, 0};
-    double z, b;
+    double z;
 
     switch (p->outcome) {
     case CR_OUT_HORIZON:
@@ -52,10 +62,14 @@ cr_rgb cr_redshift_color(const cr_pixel *p)
     default:
         return c;
     }
-    b = 255.0 * atan(z) * (2.0 / CR_PI);
-    c.r = cr_to_byte(255.0 - b);
-    c.b = cr_to_byte(b);
-    return c;
+    return cr_shift_rgb(z);
+}
+
+cr_rgb cr_redshift_sky_color(const cr_pixel *p)
+{
+    if (p->outcome == CR_OUT_SKY && p->redshift >= 0.0) /* false for NaN */
+        return cr_shift_rgb(p->redshift);
+    return cr_redshift_color(p);
 }
 
 cr_rgb cr_bolometric_color(const cr_pixel *p)
@@ -136,10 +150,11 @@ int cr_output_color_png(const char *dir, int k, const cr_pixel *px, int w, int h
     return cr_output_png(dir, "c", k, px, w, h, NULL, err);
 }
 
-int cr_output_redshift_png(const char *dir, int k, const cr_pixel *px, int w, int h,
+int cr_output_redshift_png(const char *dir, int k, const cr_pixel *px, int w, int h, int sky,
                            cr_err *err)
 {
-    return cr_output_png(dir, "r", k, px, w, h, cr_redshift_color, err);
+    return cr_output_png(dir, "r", k, px, w, h, sky ? cr_redshift_sky_color : cr_redshift_color,
+                         err);
 }
 
 int cr_output_bolometric_png(const char *dir, int k, const cr_pixel *px, int w, int h,

@@ -15,8 +15,13 @@
  * B = 255 atan(z) 2/pi for z = omega_r/omega_s >= 0 (horizon z = 0: red);
  * green where the source lies inside the ergosphere (z = -1 on a disc or
  * sphere hit); black for the sky and for pixels without a source (error,
- * limit). */
+ * limit, outside). */
 cr_rgb cr_redshift_color(const cr_pixel *p);
+/* The same, but a sky pixel is coloured by (6.9.1) with its own ratio z (the
+ * shift of light from a static emitter at infinity, E = 1, as seen by the
+ * observer: 1/sqrt(-g_tt) for the static observer, Doppler-shifted for a
+ * moving one), black only where that is undefined (scene key redshift_sky). */
+cr_rgb cr_redshift_sky_color(const cr_pixel *p);
 
 /* Bolometric map colour of one pixel: grey level 255 (log10(v) + 3) / 4,
  * clamped to 0..255, of v = g^4 F / F_max (cr_pixel.bolo) on a Keplerian
@@ -37,7 +42,9 @@ cr_pixel_values cr_pixel_csv_values(const cr_pixel *p);
 
 /* c_<k>.png, r_<k>.png, d_<k>.csv in dir. */
 int cr_output_color_png(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err);
-int cr_output_redshift_png(const char *dir, int k, const cr_pixel *px, int w, int h,
+/* r_<k>.png: sky == 0 colours pixels by cr_redshift_color (the paper's
+ * black sky), sky != 0 by cr_redshift_sky_color. */
+int cr_output_redshift_png(const char *dir, int k, const cr_pixel *px, int w, int h, int sky,
                            cr_err *err);
 /* b_<k>.png: the bolometric map (cr_bolometric_color). */
 int cr_output_bolometric_png(const char *dir, int k, const cr_pixel *px, int w, int h,

@@ -676,11 +676,13 @@ static int parse_spheres(cr_yaml *y, yaml_node_t *root, cr_scene *s, cr_err *err
 static int parse_scene(const char *text, size_t len, const char *name, const char *base,
                        cr_scene *s, cr_err *err)
 {
-    enum { METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, LIMITC, N };
+    enum {
+        METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, LIMITC, REDSKY, N
+    };
     cr_yaml_field f[N] = {REQ("metric"),    REQ("observer"),      OPT("accretion"),
                           OPT("skymap"),    MANY("sphere"),       OPT("spheres"),
                           OPT("sky_color"), OPT("horizon_color"), OPT("error_color"),
-                          OPT("limit_color")};
+                          OPT("limit_color"), OPT("redshift_sky")};
     cr_yaml y;
     yaml_node_t *root;
     char got[96];
@@ -712,7 +714,9 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
     if (field_rgb(&y, &f[SKY], NULL, cr_rgb_make(0, 0, 0), &s->sky_color, err) ||
         field_rgb(&y, &f[HORIZON], NULL, cr_rgb_make(255, 0, 0), &s->horizon_color, err) ||
         field_rgb(&y, &f[ERRC], NULL, cr_rgb_make(0, 0, 255), &s->error_color, err) ||
-        field_rgb(&y, &f[LIMITC], NULL, cr_rgb_make(255, 255, 0), &s->limit_color, err))
+        field_rgb(&y, &f[LIMITC], NULL, cr_rgb_make(255, 255, 0), &s->limit_color, err) ||
+        (f[REDSKY].value &&
+         cr_yaml_bool(&y, f[REDSKY].value, "redshift_sky", &s->redshift_sky, err)))
         goto fail;
     /* last: the image is the slow part */
     if (f[SKYMAP].value &&

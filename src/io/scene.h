@@ -88,6 +88,9 @@ typedef struct cr_scene {
     cr_rgb horizon_color; /* default red */
     cr_rgb error_color;   /* default blue */
     cr_rgb limit_color;   /* default yellow */
+    int redshift_sky;     /* redshift_sky: colour the sky in r_<k>.png by its
+                             shift (cr_redshift_sky_color); default 0, black as
+                             in the paper (6.9) */
 } cr_scene;
 
 /* Read and check a scene file, including loading its sky image. On failure

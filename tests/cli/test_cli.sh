@@ -106,6 +106,18 @@ if [ "$RC" = 0 ] && grep -q 'frame 0 of 1 done' o/log/curray.log && [ ! -e log ]
 else
     bad "log in the output folder (o/log/curray.log)" "rc $RC; $(ls -d log o/log 2>&1 | tr '\n' ' ')"
 fi
+# redshift_sky: true colours the sky of r_0.png (the colour image is unchanged);
+# the colours themselves are checked in test_output
+rm -rf o2
+printf '%sredshift_sky: true\n' "$GOOD" >skyshift.yml
+run -s skyshift.yml -o o2 -x 8 -y 8 -t icr -a true
+if [ "$RC" = 0 ] && cmp -s o/c_0.png o2/c_0.png && ! cmp -s o/r_0.png o2/r_0.png &&
+    grep -q 'sky in redshift image  coloured by its shift' o2/info.txt; then
+    ok "redshift_sky colours the sky in r_0.png only"
+else
+    bad "redshift_sky colours the sky in r_0.png only" "rc $RC"
+fi
+rm -rf o2
 
 # --- missing or unreadable files -------------------------------------------
 expect "missing scene file" 1 "scene file nope.yml: cannot open: No such file or directory" \
