@@ -498,8 +498,8 @@ def test_ctrl_c_stops_render(tmp_path, backend):
 MEMORY_CHILD = r"""
 import resource, sys
 import curray
-gib = 1 << 30
-resource.setrlimit(resource.RLIMIT_AS, (4 * gib, 4 * gib))
+limit = int(sys.argv[2])
+resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 try:
     curray.render(sys.argv[1], 8192, 8192, threads=1)
     print("rendered")
@@ -510,18 +510,20 @@ except MemoryError as e:
 
 def test_huge_frame_memory_error():
     """A frame whose arrays cannot fit is refused before anything is
-    allocated, with the command line's check and message (here against a
-    4 GiB address-space limit: 8192 x 8192 pixels need about 7.5 GiB), never
-    left to the out-of-memory killer; sizes past the command line's limits
-    are a ValueError as there."""
+    allocated, with the command line's check and message (here against an
+    address-space limit of 4 GiB, or half the machine's memory when that is
+    less: 8192 x 8192 pixels need about 7.5 GiB), never left to the
+    out-of-memory killer; sizes past the command line's limits are a
+    ValueError as there."""
     import sys
-    r = subprocess.run([sys.executable, "-c", MEMORY_CHILD, DEMO_YAML], capture_output=True,
-                       text=True, timeout=120)
+    limit = min(4 << 30, os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") // 2)
+    r = subprocess.run([sys.executable, "-c", MEMORY_CHILD, DEMO_YAML, str(limit)],
+                       capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, (r.returncode, r.stdout, r.stderr)
     line = r.stdout.strip()
     assert line.startswith("MemoryError: a 8192x8192 frame needs about "), line
-    assert line.endswith("GiB of memory, more than the 4.00 GiB of the address-space limit "
-                         "(ulimit -v); choose a smaller width, height"), line
+    assert line.endswith("GiB of memory, more than the %.2f GiB of the address-space limit "
+                         "(ulimit -v); choose a smaller width, height" % (limit / (1 << 30))), line
     need = float(line.split("needs about ")[1].split(" GiB")[0])
     assert 6.0 < need < 10.0, need  # 8192^2 x (a pixel + the arrays' 66 bytes)
     with pytest.raises(ValueError, match=r"^width, height: expected 1 to 65536 pixels a side"):
