@@ -86,8 +86,8 @@ observer scenes/observer-static-panorama.yml 1 c 640 320 c_0.png observer-static
 observer scenes/observer-zamo-ergosphere.yml 1 c 360 360 c_0.png observer-zamo-ergosphere.png
 observer scenes/observer-orbit.yml 60 c 320 180 c_0.png observer-orbit-0.png \
     c_20.png observer-orbit-20.png c_57.png observer-orbit-57.png
-observer scenes/observer-infall.yml 10 c 320 320 c_0.png observer-infall-0.png \
-    c_9.png observer-infall-9.png
+observer scenes/observer-infall.yml 10 cr 320 320 c_0.png observer-infall-0.png \
+    c_9.png observer-infall-9.png r_9.png observer-infall-redshift-9.png
 observer scenes/observer-velocity.yml 1 c 480 270 c_0.png observer-velocity.png
 W=320
 H=240
