@@ -742,43 +742,41 @@ static void test_csv_roundtrip(void **state)
     assert_int_equal(temps, 0);
 }
 
+/* The w x h PNG name in the fixture's folder holds colour(px[i]) at pixel i
+ * (colour NULL: px[i].color). */
+static void assert_png_is(const fixture *f, const char *name, const cr_pixel *px, int w, int h,
+                          cr_rgb (*colour)(const cr_pixel *))
+{
+    char path[4096];
+    uint8_t *rgb;
+    int pw, ph;
+    cr_err err;
+    join(path, f, name);
+    assert_int_equal(cr_png_read(path, 0, &rgb, &pw, &ph, &err), 0);
+    assert_int_equal(pw, w);
+    assert_int_equal(ph, h);
+    for (int i = 0; i < w * h; i++) {
+        cr_rgb c = colour ? colour(&px[i]) : px[i].color;
+        assert_rgb(((cr_rgb){rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]}), c.r, c.g, c.b);
+    }
+    free(rgb);
+}
+
 static void test_frame_pngs(void **state)
 {
     fixture *f = *state;
     enum { W = 5, H = 3 };
     cr_pixel px[W * H];
-    char path[4096];
-    uint8_t *rgb;
-    int w, h;
     cr_err err;
 
     make_frame(px, W, H);
     assert_int_equal(cr_output_color_png(f->dir, 3, px, W, H, &err), 0);
     assert_int_equal(cr_output_redshift_png(f->dir, 3, px, W, H, 0, &err), 0);
-    join(path, f, "c_3.png");
-    assert_int_equal(cr_png_read(path, 0, &rgb, &w, &h, &err), 0);
-    assert_int_equal(w, W);
-    assert_int_equal(h, H);
-    for (int i = 0; i < W * H; i++)
-        assert_rgb(((cr_rgb){rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]}), px[i].color.r,
-                   px[i].color.g, px[i].color.b);
-    free(rgb);
-    join(path, f, "r_3.png");
-    assert_int_equal(cr_png_read(path, 0, &rgb, &w, &h, &err), 0);
-    for (int i = 0; i < W * H; i++) {
-        cr_rgb c = cr_redshift_color(&px[i]);
-        assert_rgb(((cr_rgb){rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]}), c.r, c.g, c.b);
-    }
-    free(rgb);
+    assert_png_is(f, "c_3.png", px, W, H, NULL);
+    assert_png_is(f, "r_3.png", px, W, H, cr_redshift_color);
     /* redshift_sky: the sky pixels (outcome 4) coloured by their ratio */
     assert_int_equal(cr_output_redshift_png(f->dir, 4, px, W, H, 1, &err), 0);
-    join(path, f, "r_4.png");
-    assert_int_equal(cr_png_read(path, 0, &rgb, &w, &h, &err), 0);
-    for (int i = 0; i < W * H; i++) {
-        cr_rgb c = cr_redshift_sky_color(&px[i]);
-        assert_rgb(((cr_rgb){rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]}), c.r, c.g, c.b);
-    }
-    free(rgb);
+    assert_png_is(f, "r_4.png", px, W, H, cr_redshift_sky_color);
 
     /* missing output folder: the message names the file */
     char missing[4096];
