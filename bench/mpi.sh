@@ -7,6 +7,8 @@
 #   T2   curray, one process, --threads 2            (the same two cores as threads)
 # each for an animation (F frames of S pixels: frames spread over the ranks)
 # and for one frame of twice the size in each direction (rows spread).
+# Every case runs --backend cpu (an MPI run would use GPUs where every rank
+# has one).
 # Prints the median wall time of each case, the ratios, and the gather cost
 # that rank 0 reports with -v (pixels received and the time spent receiving).
 #
@@ -40,6 +42,7 @@ scene=$root/scenes/listing-7.1.6-sphere-orbit.yml
 run() {
     local args t0 t1 log=$work/log
     if [ "$2" = anim ]; then args=(-s "$scene" -x "$w" -y "$h" -f "$frames"); else args=(-s "$scene" -x $((2 * w)) -y $((2 * h))); fi
+    args+=(--backend cpu) # CPU scaling, also on a machine with a GPU
     args+=(-t icr -a -v -o "$work/out-$1-$2")
     rm -rf "$work/out-$1-$2"
     t0=$(date +%s.%N)
