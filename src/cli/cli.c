@@ -47,8 +47,8 @@ void cr_cli_usage(const char *prog, FILE *out)
             "Usage: %s -s <scene file> -o <output directory> -x <width> -y <height>\n"
             "          [-f <frames>] [-t <output types>] [-c <system configuration>]\n"
             "          [-v <true/false>] [-q <true/false>] [-a <true/false>]\n"
-            "          [--backend auto|cpu|cuda] [--threads N] [--resume] [-i] [-h]\n"
-            "          [--version] [--]\n"
+            "          [--backend auto|cpu|cuda] [--threads N] [--resume] [--trace I,J]\n"
+            "          [-i] [-h] [--version] [--]\n"
             "\n"
             "  -s, --scene_file FILE   scene to render (YAML, see README)\n"
             "  -o, --output_dir DIR    where outputs go (created if missing)\n"
@@ -165,7 +165,7 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
                 c->backend = CR_BACKEND_AUTO;
             else if (strcmp(optarg, "cpu") == 0)
                 c->backend = CR_BACKEND_CPU;
-            else if (strcmp(optarg, "cuda") == 0 || strcmp(optarg, "gpu") == 0)
+            else if (strcmp(optarg, "cuda") == 0)
                 c->backend = CR_BACKEND_CUDA;
             else
                 return cr_err_set(err, "--backend: expected auto, cpu or cuda, got '%s'", optarg);

@@ -221,6 +221,8 @@ scene "duplicate key" 1 "duplicate key 'r' (first given at line 2" \
 printf 'cpu: {threads: 4}\nlog: {verbos: true}\n' >c.yml
 expect "unknown configuration key" 1 "c.yml:2:7: unknown key 'verbos' in log" \
     -s good.yml -c c.yml -o o -x 8 -y 8
+expect "--backend with an unknown name" 2 "--backend: expected auto, cpu or cuda, got 'gpu'" \
+    -s good.yml -o o -x 8 -y 8 --backend gpu
 expect "--threads above the limit" 2 "--threads: expected a number of threads from 1 to 4096, got '4097'" \
     -s good.yml -o o -x 8 -y 8 --threads 4097
 printf 'cpu: {threads: 4097}\n' >c.yml
