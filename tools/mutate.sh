@@ -161,7 +161,9 @@ echo "mutate: baseline passes ($(($(date +%s) - t0)) s)${exclude:+, tests left o
 printf 'name\tfile\tresult\tfailing tests\tseconds\n' >"$results"
 n_killed=0 n_survived=0 n_na=0 n_build=0
 survivors=""
-while IFS= read -r line || [ -n "$line" ]; do
+# the list on fd 3: a test that reads its standard input (ctest passes it on)
+# must not swallow the rest of the list
+while IFS= read -r line <&3 || [ -n "$line" ]; do
     case $line in '' | '#'*) continue ;; esac
     tabs=${line//[!$'\t']/}
     IFS=$'\t' read -r name file old new <<<"$line"
@@ -204,7 +206,7 @@ while IFS= read -r line || [ -n "$line" ]; do
     esac
     printf '%-30s %-12s %4ds  %s\n' "$name" "$verdict" "$dt" "$why"
     printf '%s\t%s\t%s\t%s\t%s\n' "$name" "$file" "$verdict" "$why" "$dt" >>"$results"
-done <"$list"
+done 3<"$list"
 
 # leave the build of the unmutated tree behind
 cmake --build "$build" -j "$jobs" >"$logs/_build_final.log" 2>&1
