@@ -9,6 +9,9 @@
 # the next mutation. The working tree is never touched: the copy is made once,
 # at the start, of every tracked and untracked-but-not-ignored file
 # (git ls-files), so other work going on in the checkout does not matter.
+# The copy's files get the current time (tar -m), so the first build
+# recompiles everything: objects left by an interrupted run's mutant are
+# never taken for up to date.
 #
 # Usage: tools/mutate.sh [mutations-file]
 # Environment:
@@ -55,7 +58,7 @@ mkdir -p "$work" "$logs" || exit 2
 rm -rf "$tree" "$orig"
 mkdir -p "$tree" "$orig"
 (cd "$root" && git ls-files -co --exclude-standard -z |
-    tar --null --ignore-failed-read -T - -cf - 2>/dev/null) | tar -C "$tree" -xf - || {
+    tar --null --ignore-failed-read -T - -cf - 2>/dev/null) | tar -C "$tree" -m -xf - || {
     echo "mutate: copying the sources failed" >&2
     exit 2
 }
