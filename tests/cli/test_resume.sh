@@ -119,6 +119,32 @@ refused "--resume with a changed scene is refused" "--resume: part/info.txt is f
 cmp -s c3.before part/c_3.png && ok "the refused run changed nothing" || bad "refused run" "c_3.png changed"
 refused "--resume with another size is refused" "is from another run" \
     -s scene.yml -o part -x 320 -y 200 -f 4 -t icrd --threads 1 -a --resume
+# the raytracer settings are in the hash by value: samples 1 written out is
+# the default run (resumed), samples 2 is another run (refused)
+printf 'raytracer:\n  samples: 1\n' >s1.yml
+printf 'raytracer:\n  samples: 2\n' >s2.yml
+run "${ARGS[@]}" -o part -c s1.yml --resume
+if [ $RC = 0 ] && has "resuming: 4 of 4 frames finished by the earlier run, 0 to render"; then
+    ok "--resume with the default samples written in a config file resumes"
+else
+    bad "--resume with samples: 1" "rc $RC"
+fi
+refused "--resume with other samples is refused" "is from another run" \
+    "${ARGS[@]}" -o part -c s2.yml --resume
+# the sky image's bytes are in the hash: the same scene file naming a changed
+# sky.png is another run
+cp "$ROOT/scenes/listing-7.1.2-starry-sky.yml" sky.yml
+cp "$ROOT/scenes/sky.png" sky.png
+SKY=(-s sky.yml -o skyrun -x 16 -y 12 -t i -a)
+run "${SKY[@]}"
+run "${SKY[@]}" --resume
+if [ $RC = 0 ] && has "resuming: 1 of 1 frame finished by the earlier run, 0 to render"; then
+    ok "--resume with the same sky image resumes"
+else
+    bad "--resume with the same sky image" "rc $RC"
+fi
+cp "$ROOT/scenes/sky_grid.png" sky.png
+refused "--resume with a changed sky image is refused" "is from another run" "${SKY[@]}" --resume
 refused "--resume with no earlier run is refused" \
     "--resume: no earlier run to resume in empty (no info.txt)" "${ARGS[@]}" -o empty --resume
 refused "--resume without output type i is refused" "--resume needs info.txt" \

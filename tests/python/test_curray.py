@@ -237,6 +237,11 @@ def test_trace_null_and_ends(scenes, integrator):
         i, j = pix[word]
         p = curray.trace(scenes["kn"], pixel=(i, j), width=W, height=H, integrator=integrator)
         assert p.outcome == word and len(p.r) >= 3
+        # README "Ray paths": the observer, then 8 points per mino step (its
+        # dense output, the last step cut at the hit or the stop) or 1 per
+        # rk4 step: exactly 1 + 8 steps or 1 + steps (steps as the image's)
+        assert p.steps == img["steps"][j, i]
+        assert len(p.r) == 1 + {"mino": 8, "rk4": 1}[integrator] * p.steps, (len(p.r), p.steps)
         assert np.all(np.isfinite(np.vstack([p[c] for c in curray.PATH_COLUMNS])))
         # starts at the observer, parameter and t increasing/decreasing
         assert p.r[0] == 40 and p.t[0] == 0 and p.param[0] == 0
@@ -253,7 +258,10 @@ def test_trace_null_and_ends(scenes, integrator):
             assert p.r[-1] == img["hit_r"][j, i] and 3 <= p.r[-1] <= 12
             assert abs(p.phi[-1] % (2 * math.pi) - img["hit_phi"][j, i]) < 1e-12
         elif word == "horizon":  # at the stop r+ + horizon_epsilon (0.005)
-            assert r_plus < p.r[-1] <= r_plus + 0.005 + 1e-12
+            # the last step is cut where it crosses the stop (bisection on
+            # the step's own states: exact to rounding; measured 2e-16 M),
+            # not left at the step's end inside it
+            assert abs(p.r[-1] - (r_plus + 0.005)) < 1e-9, p.r[-1] - (r_plus + 0.005)
         else:  # left the scene boundary (observer's r + M) outward
             assert p.r[-1] >= 41 * (1 - 1e-12) and p.ur[-1] > 0
     print("worst null residual (%s): %.3g" % (integrator, worst))
