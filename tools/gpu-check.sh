@@ -4,37 +4,42 @@
 # That machine has no package registry and no libpng/libyaml/libcmocka, so
 # everything is built HERE, statically for sm_90 (H100/H200), and carried.
 #
-#   1. Here (no GPU needed, ~5-10 min on 2 cores):
+#   1. Here (no GPU needed, about 80 s on 2 cores):
 #        tools/gpu-check.sh build
-#      builds build-gpu-check/{default,r128,r64} (curray; default also
-#      test_backends, with libcmocka copied into build-gpu-check/lib) with
-#      CURRAY_STATIC=ON, CURRAY_CUDA_ARCHS=90 and CURRAY_CUDA_MAXRREG
-#      "" / 128 / 64.
+#      builds, from a snapshot of HEAD (git archive, in build-gpu-check/src,
+#      so others' uncommitted edits do not matter: commit yours first),
+#      build-gpu-check/{default,r128,r64} (curray; default also test_backends,
+#      with libcmocka copied into build-gpu-check/lib) with CURRAY_STATIC=ON,
+#      CURRAY_CUDA_ARCHS=90 and CURRAY_CUDA_MAXRREG "" / 128 / 64.
+#      GPU_CHECK_BASE=REV adds build-gpu-check/base: REV's curray, for a
+#      before/after table (bench-base against bench-default).
 #   2. On the GPU machine, ONE device-tool call:
 #        run(command="tools/gpu-check.sh run", carry=["build-gpu-check"],
-#            timeout_s=560)
+#            timeout_s=300)
 #      It writes under $OUT (at most 8 files come back): summary.txt (the
 #      short table, also printed last), ctest.log, bench.md (every benchmark
-#      table) and gpu-check.tar.gz (every log, CSV and info.txt). Budget about
-#      8 minutes; every stage has its own `timeout`, so a slow stage is cut
-#      off and the rest still runs. Then call give_back.
+#      table) and gpu-check.tar.gz (every log, CSV and info.txt). On an H200
+#      (2026-11-30) the whole run took about 60-80 s. GPU_CHECK_BUDGET (s,
+#      default 380) caps it: each stage gets at most what is left, and is
+#      skipped when under 20 s are left. GPU_CHECK_SIZES picks the sizes of
+#      the main table (default "1024 2048"). Then call give_back.
 #
-# What `run` does, in order (times are estimates; nothing here has run on a
-# GPU yet):
+# What `run` does, in order (times measured on the H200):
 #   a. curray -i for each variant (device, registers and local memory per
-#      thread and occupancy as the CUDA runtime reports them)      ~10 s
+#      thread and occupancy as the CUDA runtime reports them)      ~2 s
 #   b. ctest -L gpu --output-on-failure (test_backends: every case and scene,
-#      CPU against GPU, under mino and rk4)                        ~1-2 min
+#      CPU against GPU, under mino and rk4)                        ~5 s
 #   c. the CLI through the per-run session: a 3-frame render of scenes/demo.yml
 #      on the CPU and on the GPU, with mino and with rk4, compared pixel by
-#      pixel (outcome and colour, d_<k>.csv); and 12 frames of kerr-disc at
-#      1024x1024 written as PNG+CSV, to see tracing overlap writing   ~1 min
-#   d. bench/run.sh --backend cuda on the 4 bench scenes, 512/1024/2048, 3 runs
-#                                                                   ~2 min
-#   e. Mino vs rk4 on the GPU: bench/run.sh with bench/scenes/mino.yml and
-#      rk4.yml on kerr-disc and kerrz-disc at 1024                  ~1 min
-#   f. the register-cap variants r128 and r64: bench/run.sh at 1024, 3 runs
-#                                                                   ~1 min
+#      pixel (outcome and colour, d_<k>.csv)                       ~3 s
+#   d. the split of a frame's GPU time into tracing and pixel copy (-v) at
+#      1024 and 4096                                               ~5 s
+#   e. Mino vs rk4 on the GPU (kerr-disc, and kerrz-disc for mino), and a
+#      tolerance sweep (1e-5, 1e-9)                                ~10 s
+#   f. bench/run.sh --backend cuda on the 4 bench scenes, 3 runs     ~15 s
+#   g. the variants (base, r128, r64): bench/run.sh at 1024, 3 runs  ~6 s each
+#   h. 12 frames of kerr-disc at 1024x1024 written as PNG+CSV, to see tracing
+#      overlap writing                                             ~18 s
 set -uo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
