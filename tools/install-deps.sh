@@ -7,10 +7,12 @@ set -euo pipefail
 # FFmpeg's libraries are optional for the build (-t v videos) but installed
 # here so that CI builds and tests the video output. cfitsio (-t f FITS) likewise.
 # Python 3 with venv, NumPy, pytest and astropy: the Python package and its
-# tests (test_python).
+# tests (test_python). openssh-client: Open MPI's mpirun looks for ssh (or
+# rsh) at start-up even for ranks on one machine (only recommended by
+# openmpi-bin, so --no-install-recommends would leave it out).
 pkgs=(cmake make gcc pkg-config libyaml-dev libpng-dev zlib1g-dev libcmocka-dev
       libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
-      libopenmpi-dev openmpi-bin
+      libopenmpi-dev openmpi-bin openssh-client
       libcfitsio-dev
       python3-dev python3-venv python3-numpy python3-pytest python3-astropy python3-setuptools
       python3-wheel "$@")
