@@ -155,6 +155,16 @@ static void bk_sphere(bk_case *c, cr_rgb color, int n_lat, int n_lon, double r, 
     c->f.spheres = c->spheres;
 }
 
+/* Spheres in front of, beside (rotated) and behind the hole. */
+static void bk_three_spheres(bk_case *c)
+{
+    bk_sphere(c, bk_rgb(0, 0, 255), 4, 8, 8.0, 90.0 * BK_DEG, 20.0 * BK_DEG, 2.0, 0.0, 0.0, 0.0);
+    bk_sphere(c, bk_rgb(255, 128, 0), 6, 12, 10.0, 60.0 * BK_DEG, -50.0 * BK_DEG, 1.5,
+              30.0 * BK_DEG, 20.0 * BK_DEG, 10.0 * BK_DEG);
+    bk_sphere(c, bk_rgb(255, 0, 0), 4, 8, 12.0, 90.0 * BK_DEG, 180.0 * BK_DEG, 3.0, 0.0, 0.0,
+              0.0);
+}
+
 /* A 64 x 32 equirectangular sky: a colour gradient with a chessboard;
  * boundary 0 puts it at infinity. */
 static void bk_sky(bk_case *c, double boundary)
@@ -192,12 +202,7 @@ static int bk_builtin(int k, bk_case *c)
     case 2: /* spheres in front of, beside and behind a Kerr-Newman hole,
              * with a sky texture */
         bk_base(c, "kerr-newman spheres + sky texture", 1.0, 0.6, 0.3, 25.0, 80.0 * BK_DEG);
-        bk_sphere(c, bk_rgb(0, 0, 255), 4, 8, 8.0, 90.0 * BK_DEG, 20.0 * BK_DEG, 2.0, 0.0, 0.0,
-                  0.0);
-        bk_sphere(c, bk_rgb(255, 128, 0), 6, 12, 10.0, 60.0 * BK_DEG, -50.0 * BK_DEG, 1.5,
-                  30.0 * BK_DEG, 20.0 * BK_DEG, 10.0 * BK_DEG);
-        bk_sphere(c, bk_rgb(255, 0, 0), 4, 8, 12.0, 90.0 * BK_DEG, 180.0 * BK_DEG, 3.0, 0.0,
-                  0.0, 0.0);
+        bk_three_spheres(c);
         bk_sky(c, 40.0);
         break;
     case 3: /* observer on the polar axis looking down at a Kerr disc */
@@ -214,12 +219,7 @@ static int bk_builtin(int k, bk_case *c)
                 0.0, 0.0);
         bk_at_infinity(c, 70.0 * BK_DEG, 36.0);
         c->f.observer.roll = 20.0 * BK_DEG;
-        bk_sphere(c, bk_rgb(0, 0, 255), 4, 8, 8.0, 90.0 * BK_DEG, 20.0 * BK_DEG, 2.0, 0.0, 0.0,
-                  0.0);
-        bk_sphere(c, bk_rgb(255, 128, 0), 6, 12, 10.0, 60.0 * BK_DEG, -50.0 * BK_DEG, 1.5,
-                  30.0 * BK_DEG, 20.0 * BK_DEG, 10.0 * BK_DEG);
-        bk_sphere(c, bk_rgb(255, 0, 0), 4, 8, 12.0, 90.0 * BK_DEG, 180.0 * BK_DEG, 3.0, 0.0,
-                  0.0, 0.0);
+        bk_three_spheres(c);
         bk_sky(c, 0.0);
         break;
     case 6: /* issue 13: an observer moving inside the ergosphere (0.5 c radially

@@ -105,6 +105,14 @@ static char *read_all(const char *path, size_t *len)
     return buf;
 }
 
+/* Fail unless info.txt's text t holds every one of the n lines want[]. */
+static void expect_lines(const char *t, const char *const *want, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!strstr(t, want[i]))
+            fail_msg("info.txt lacks \"%s\"; it reads:\n%s", want[i], t);
+}
+
 static void write_all(const char *path, const void *data, size_t n)
 {
     FILE *fp = fopen(path, "wb");
@@ -982,9 +990,7 @@ static void test_info(void **state)
         "  pixels                 horizon 1, disc 1, sphere 0, sky 2, error 0, limit 0\n",
         "Finished 2 of 3 frames (run incomplete)\n",
     };
-    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
-        if (!strstr(t, want[i]))
-            fail_msg("info.txt lacks \"%s\"; it reads:\n%s", want[i], t);
+    expect_lines(t, want, sizeof want / sizeof want[0]);
     assert_null(strstr(t, "Frame 2"));
     free(t);
 
@@ -1047,9 +1053,7 @@ static void test_info_keplerian(void **state)
         "  effective inner radius 6 -> 4 M (12 -> 8 in the scene's units)\n",
         "  peak temperature       12000 K\n",
     };
-    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
-        if (!strstr(t, want[i]))
-            fail_msg("info.txt lacks \"%s\"; it reads:\n%s", want[i], t);
+    expect_lines(t, want, sizeof want / sizeof want[0]);
     assert_null(strstr(t, "radial rings"));
     assert_null(strstr(t, "colour 1"));
     free(t);
@@ -1065,9 +1069,7 @@ static void test_info_keplerian(void **state)
         "  r_isco                 8.71735228 M (17.43470456 in the scene's units)\n",
         "  effective inner radius 8.71735228 M (17.43470456 in the scene's units)\n",
     };
-    for (size_t i = 0; i < sizeof want2 / sizeof want2[0]; i++)
-        if (!strstr(t, want2[i]))
-            fail_msg("info.txt lacks \"%s\"; it reads:\n%s", want2[i], t);
+    expect_lines(t, want2, sizeof want2 / sizeof want2[0]);
     free(t);
 }
 
@@ -1108,9 +1110,7 @@ static void test_info_at_infinity(void **state)
         "  tolerance              1e-07 (mino only, unused)\n",
         "  step multiplier        0.03125\n",
     };
-    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
-        if (!strstr(t, want[i]))
-            fail_msg("info.txt lacks \"%s\"; it reads:\n%s", want[i], t);
+    expect_lines(t, want, sizeof want / sizeof want[0]);
     assert_null(strstr(t, "fov"));
     free(t);
     s.has_vextent = 1;

@@ -137,6 +137,22 @@ static void frame_init(cr_frame *f, double m, double a, double q, double r, doub
     f->max_turns = CR_DEFAULT_MAX_TURNS;
 }
 
+/* Give f the green/magenta chessboard disc (ERRATA 3) of n_rad rings and
+ * n_sec sectors from r_in to r_out, turned by yaw, then prepare f. */
+static void chessboard_disc(cr_frame *f, int n_rad, int n_sec, double yaw, double r_in,
+                            double r_out)
+{
+    f->disc.enabled = 1;
+    f->disc.color1 = cr_rgb_make(0, 255, 0);
+    f->disc.color2 = cr_rgb_make(255, 0, 255);
+    f->disc.n_radial = n_rad;
+    f->disc.n_sectors = n_sec;
+    f->disc.yaw = yaw;
+    f->disc.r_in = r_in;
+    f->disc.r_out = r_out;
+    cr_frame_prepare(f);
+}
+
 /* Trace the ray that leaves the observer of a prepared frame in the local
  * unit direction n = (n_r, n_theta, n_phi). */
 static cr_pixel trace_dir(const cr_frame *f, const double n[3])
@@ -240,15 +256,7 @@ static void test_disc_chessboard(void **state)
                     double ph = yaw + (s + frac[q]) * sec;
                     frame_init(&f, 1.0, 0.0, 0.0, r_o, face ? CR_PI - th_top : th_top, ph,
                                integ);
-                    f.disc.enabled = 1;
-                    f.disc.color1 = cr_rgb_make(0, 255, 0);
-                    f.disc.color2 = cr_rgb_make(255, 0, 255);
-                    f.disc.n_radial = n_rad;
-                    f.disc.n_sectors = n_sec;
-                    f.disc.yaw = yaw;
-                    f.disc.r_in = r_in;
-                    f.disc.r_out = r_out;
-                    cr_frame_prepare(&f);
+                    chessboard_disc(&f, n_rad, n_sec, yaw, r_in, r_out);
                     for (k = 0; k < 5; k++) {
                         /* towards +theta from the top, -theta from below */
                         double n[3] = {-cos(alpha[k]), (face ? -1.0 : 1.0) * sin(alpha[k]), 0.0};
@@ -313,15 +321,7 @@ static void test_disc_over_the_pole(void **state)
                 double u = fmod(ph + CR_PI - yaw, CR_TWO_PI);
                 int sector = (int)floor(u / sec);
                 frame_init(&f, 1.0, 0.0, 0.0, r_o, th_o, ph, integ);
-                f.disc.enabled = 1;
-                f.disc.color1 = cr_rgb_make(0, 255, 0);
-                f.disc.color2 = cr_rgb_make(255, 0, 255);
-                f.disc.n_radial = n_rad;
-                f.disc.n_sectors = n_sec;
-                f.disc.yaw = yaw;
-                f.disc.r_in = r_in;
-                f.disc.r_out = r_out;
-                cr_frame_prepare(&f);
+                chessboard_disc(&f, n_rad, n_sec, yaw, r_in, r_out);
                 for (k = 0; k < 4; k++) {
                     double n[3] = {-cos(alpha[k]), -sin(alpha[k]), 0.0};
                     int rg = (int)floor((r_hit[k] - r_in) / ring);
