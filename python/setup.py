@@ -6,9 +6,9 @@ so ``pip install ./python`` needs the repository around this folder and the
 libraries the command line links: libyaml, libpng, zlib (Debian:
 libyaml-dev libpng-dev zlib1g-dev; tools/install-deps.sh installs them).
 
-The CUDA backend (src/cuda/gpu.cu) goes in when nvcc is found, as in the
+The CUDA backend (src/render/gpu.cu) goes in when nvcc is found, as in the
 CMake build; environment variables choose otherwise:
-  CURRAY_CUDA=0      the CPU only (src/cuda/gpu_stub.c: backend="cuda" says
+  CURRAY_CUDA=0      the CPU only (src/render/gpu_stub.c: backend="cuda" says
                      the build has no CUDA); =1: CUDA or fail; unset: nvcc
                      when found (PATH, $CUDA_HOME/bin, /usr/local/cuda/bin)
   CURRAY_CUDA_ARCHS  "80;90" (the default, CMake's): SASS for each, PTX for
@@ -39,9 +39,10 @@ def version():
 
 
 LIB_SOURCES = [
-    "io/error.c", "io/scene.c", "io/yamlutil.c", "io/sysconfig.c", "io/png_io.c",
-    "io/fsutil.c", "io/atomic.c", "io/info.c", "io/log.c", "io/raypath.c", "io/output.c",
-    "cpu/render_cpu.c",
+    "base/error.c", "base/fsutil.c", "base/atomic.c", "base/log.c", "base/png_io.c",
+    "input/scene.c", "input/yamlutil.c", "input/sysconfig.c",
+    "output/info.c", "output/raypath.c", "output/output.c",
+    "render/cpu.c",
 ]
 
 ext = Extension(
@@ -131,10 +132,10 @@ class BuildExt(build_ext):
         if nvcc and lib:
             e.extra_objects = list(e.extra_objects) + [os.path.abspath(lib)]
         elif nvcc:
-            e.sources.append(os.path.join(SRC, "cuda", "gpu_select.c"))
+            e.sources.append(os.path.join(SRC, "render", "gpu_select.c"))
             e.extra_objects = list(e.extra_objects) + [self.nvcc_compile(nvcc)]
         else:
-            e.sources += [os.path.join(SRC, "cuda", s) for s in ("gpu_stub.c", "gpu_select.c")]
+            e.sources += [os.path.join(SRC, "render", s) for s in ("gpu_stub.c", "gpu_select.c")]
         if nvcc:
             e.extra_objects.append(cudart_static(nvcc))
             e.libraries = list(e.libraries) + ["dl", "rt", "stdc++"]
@@ -151,7 +152,7 @@ class BuildExt(build_ext):
         obj = os.path.join(out, "gpu.o")
         cmd = [nvcc, "-O3", "-DNDEBUG", "-D_POSIX_C_SOURCE=200809L",
                '-DCURRAY_VERSION="%s"' % version(), "-I" + out, "-I" + SRC] + flags + [
-               "-Xcompiler=-fPIC,-Wall,-Wextra", "-c", os.path.join(SRC, "cuda", "gpu.cu"),
+               "-Xcompiler=-fPIC,-Wall,-Wextra", "-c", os.path.join(SRC, "render", "gpu.cu"),
                "-o", obj]
         print("curray: compiling the CUDA backend (about a minute): " + " ".join(cmd))
         subprocess.check_call(cmd)

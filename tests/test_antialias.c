@@ -21,7 +21,7 @@
 #include <cmocka.h>
 
 #include "core/trace.h"
-#include "io/sysconfig.h"
+#include "input/sysconfig.h"
 #include "testutil.h"
 
 #define AA_W 24

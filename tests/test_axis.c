@@ -29,8 +29,8 @@
 
 #include <cmocka.h>
 
-#include "cpu/render_cpu.h"
-#include "io/scene.h"
+#include "render/cpu.h"
+#include "input/scene.h"
 #include "testutil.h"
 
 static void render_frame(cr_frame *f, cr_pixel *px)

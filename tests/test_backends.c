@@ -52,9 +52,9 @@
 #include <cmocka.h>
 
 #include "core/trace.h"
-#include "cpu/render_cpu.h"
-#include "cuda/gpu.h"
-#include "io/scene.h"
+#include "render/cpu.h"
+#include "render/gpu.h"
+#include "input/scene.h"
 
 #define BK_W 96
 #define BK_H 64

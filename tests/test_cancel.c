@@ -17,7 +17,7 @@
 
 #include <cmocka.h>
 
-#include "cpu/render_cpu.h"
+#include "render/cpu.h"
 #include "testutil.h"
 
 static double now_s(void)

@@ -10,7 +10,7 @@
 #include <cmocka.h>
 
 #include "cli/cli.h"
-#include "io/sysconfig.h"
+#include "input/sysconfig.h"
 
 static void test_answer(void **state)
 {

@@ -1,5 +1,5 @@
 // DESIGN rule 2: the core headers compile as C++, as nvcc compiles them for
-// the CUDA kernel (src/cuda/gpu.cu). Compiled, never linked or run, by
+// the CUDA kernel (src/render/gpu.cu). Compiled, never linked or run, by
 // tests/test_core_cxx.cmake (CTest: test_core_cxx) with the C++ compiler,
 // -std=c++11 and -std=c++17, -pedantic-errors -Wall -Wextra -Werror: C-only
 // constructs (VLAs, compound literals, designated initializers, bare

@@ -1,4 +1,4 @@
-/* GPU selection (cr_gpu_select, src/cuda/gpu_select.c) with made-up device
+/* GPU selection (cr_gpu_select, src/render/gpu_select.c) with made-up device
  * tables: device numbers are the runtime's, so the number of usable devices
  * is no bound on them (issue 11, item 5). Runs in every build, with or
  * without CUDA, and needs no GPU. */
@@ -10,7 +10,7 @@
 
 #include <cmocka.h>
 
-#include "cuda/gpu.h"
+#include "render/gpu.h"
 
 #define N_MAX 8
 

@@ -50,9 +50,9 @@
 #include <string.h>
 #include <time.h>
 
-#include "cpu/render_cpu.h"
-#include "io/scene.h"
-#include "io/sysconfig.h"
+#include "render/cpu.h"
+#include "input/scene.h"
+#include "input/sysconfig.h"
 #include "testutil.h"
 
 #define W 40

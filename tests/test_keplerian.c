@@ -36,8 +36,8 @@
 #include <cmocka.h>
 
 #include "core/trace.h"
-#include "io/output.h"
-#include "io/scene.h"
+#include "output/output.h"
+#include "input/scene.h"
 #include "testutil.h"
 
 static void frame_from(const char *text, int integ, int w, int h, cr_frame *f, cr_scene *s)

@@ -55,7 +55,7 @@
 
 #include <cmocka.h>
 
-#include "io/scene.h"
+#include "input/scene.h"
 #include "testutil.h"
 
 #define DEG (CR_PI / 180.0)

@@ -22,12 +22,12 @@
 #include <unistd.h>
 #include <zlib.h>
 
-#include "io/atomic.h"
-#include "io/fsutil.h"
-#include "io/info.h"
-#include "io/log.h"
-#include "io/output.h"
-#include "io/png_io.h"
+#include "base/atomic.h"
+#include "base/fsutil.h"
+#include "output/info.h"
+#include "base/log.h"
+#include "output/output.h"
+#include "base/png_io.h"
 #include "testfs.h"
 
 /* --- helpers -------------------------------------------------------------- */

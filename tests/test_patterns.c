@@ -100,8 +100,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cpu/render_cpu.h"
-#include "io/scene.h"
+#include "render/cpu.h"
+#include "input/scene.h"
 #include "testutil.h"
 
 #define DEG (CR_PI / 180.0)

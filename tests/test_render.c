@@ -24,8 +24,8 @@
 
 #include <cmocka.h>
 
-#include "cpu/render_cpu.h"
-#include "io/scene.h"
+#include "render/cpu.h"
+#include "input/scene.h"
 #include "testutil.h"
 
 #define W 65

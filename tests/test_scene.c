@@ -29,8 +29,8 @@
 #include <cmocka.h>
 
 #include "core/trace.h"
-#include "io/png_io.h"
-#include "io/scene.h"
+#include "base/png_io.h"
+#include "input/scene.h"
 
 #define DATA CR_SOURCE_DIR "/tests/data/"
 #define TMP CR_BINARY_DIR "/tests/test_scene_tmp"

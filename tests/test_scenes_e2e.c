@@ -60,11 +60,11 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cpu/render_cpu.h"
-#include "io/output.h"
-#include "io/png_io.h"
-#include "io/scene.h"
-#include "io/sysconfig.h"
+#include "render/cpu.h"
+#include "output/output.h"
+#include "base/png_io.h"
+#include "input/scene.h"
+#include "input/sysconfig.h"
 #include "testutil.h"
 #include "testfs.h"
 

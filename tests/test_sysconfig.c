@@ -18,7 +18,7 @@
 #include <cmocka.h>
 
 #include "core/trace.h"
-#include "io/sysconfig.h"
+#include "input/sysconfig.h"
 
 #define DATA CR_SOURCE_DIR "/tests/data/"
 #define NAME "config.yml"

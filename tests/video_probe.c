@@ -20,7 +20,7 @@
 #include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 
-#include "io/png_io.h"
+#include "base/png_io.h"
 
 static double psnr_rgb(const AVFrame *f, const uint8_t *png, int w, int h)
 {

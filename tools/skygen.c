@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "io/png_io.h"
+#include "base/png_io.h"
 
 #define SG_PI 3.14159265358979323846
 #define SG_MAX_SIDE 32768

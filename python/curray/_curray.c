@@ -1,6 +1,6 @@
 /* curray._curray: the C side of the Python package (python/README section of
  * the top README). It calls the same library as the command line: the scene
- * and configuration loaders (src/io), the CPU backend (src/cpu) and the core
+ * and configuration loaders (src/input, src/output), the CPU backend (src/render) and the core
  * trace loop (src/core, with its path recorder for trace()). Every failure
  * comes back as a cr_err message and is raised as ValueError (bad input) or
  * MemoryError; nothing here exits or prints.
@@ -17,13 +17,13 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cpu/render_cpu.h"
-#include "cuda/gpu.h"
-#include "io/info.h"
-#include "io/output.h"
-#include "io/raypath.h"
-#include "io/scene.h"
-#include "io/sysconfig.h"
+#include "render/cpu.h"
+#include "render/gpu.h"
+#include "output/info.h"
+#include "output/output.h"
+#include "output/raypath.h"
+#include "input/scene.h"
+#include "input/sysconfig.h"
 
 /* One frame ready to trace: the loaded scene, the settings and the frame. */
 typedef struct cr_py_job {

@@ -7,8 +7,8 @@
 #include <string.h>
 #include <strings.h>
 
-#include "../io/fits.h"
-#include "../io/sysconfig.h"
+#include "../output/fits.h"
+#include "../input/sysconfig.h"
 
 enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS, OPT_RESUME, OPT_TRACE };
 

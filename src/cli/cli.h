@@ -4,7 +4,7 @@
 
 #include <stdio.h>
 
-#include "../io/error.h"
+#include "../base/error.h"
 
 typedef enum cr_backend_choice {
     CR_BACKEND_AUTO = 0,

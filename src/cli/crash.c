@@ -12,7 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "../io/fsutil.h"
+#include "../base/fsutil.h"
 
 static const int cr_crash_signals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 #define CR_CRASH_NSIG ((int)(sizeof cr_crash_signals / sizeof cr_crash_signals[0]))

@@ -21,7 +21,7 @@
 #ifndef CR_CLI_CRASH_H
 #define CR_CLI_CRASH_H
 
-#include "../io/error.h"
+#include "../base/error.h"
 
 /* Install the handler for the five signals. log_dir: the folder for the
  * crash file (it should exist; "" or NULL: the current folder). version:

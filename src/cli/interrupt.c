@@ -9,7 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "../io/fsutil.h"
+#include "../base/fsutil.h"
 
 /* The installed cr_interrupt, for the signal handler (the one static, see
  * interrupt.h); NULL when none. */

@@ -28,8 +28,8 @@
 #include <semaphore.h>
 #include <stdatomic.h>
 
-#include "../io/error.h"
-#include "../io/log.h"
+#include "../base/error.h"
+#include "../base/log.h"
 
 /* One writer (a worker) and the file it is writing. */
 #define CR_INTERRUPT_SLOTS 65

@@ -23,20 +23,20 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "../cpu/render_cpu.h"
-#include "../cuda/gpu.h"
-#include "../io/fits.h"
-#include "../io/fsutil.h"
-#include "../io/log.h"
-#include "../io/output.h"
-#include "../io/raypath.h"
-#include "../io/scene.h"
-#include "../io/sysconfig.h"
-#include "../io/video.h"
+#include "../render/cpu.h"
+#include "../render/gpu.h"
+#include "../output/fits.h"
+#include "../base/fsutil.h"
+#include "../base/log.h"
+#include "../output/output.h"
+#include "../output/raypath.h"
+#include "../input/scene.h"
+#include "../input/sysconfig.h"
+#include "../output/video.h"
 #include "cli.h"
 #include "crash.h"
 #include "interrupt.h"
-#include "mpi.h"
+#include "../render/mpi.h"
 #include "resume.h"
 
 #define CR_EXIT_OK 0

@@ -12,7 +12,7 @@
 #include <sys/types.h>
 #include <unistd.h>
 
-#include "../io/fsutil.h"
+#include "../base/fsutil.h"
 
 /* Output types with one file per frame, and their extensions. */
 static const struct {

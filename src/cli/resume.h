@@ -16,9 +16,9 @@
 
 #include <stddef.h>
 
-#include "../io/error.h"
-#include "../io/scene.h"
-#include "../io/sysconfig.h"
+#include "../base/error.h"
+#include "../input/scene.h"
+#include "../input/sysconfig.h"
 
 /* The file name of frame k's output of type t ("c_3.png"), or -1 when t
  * has no per-frame file (i, v). */

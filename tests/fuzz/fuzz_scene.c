@@ -22,7 +22,7 @@
 #include <string.h>
 
 #include "core/trace.h"
-#include "io/scene.h"
+#include "input/scene.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

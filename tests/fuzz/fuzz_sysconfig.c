@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "io/sysconfig.h"
+#include "input/sysconfig.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

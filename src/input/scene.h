@@ -14,7 +14,7 @@
 #include <stddef.h>
 
 #include "../core/defs.h"
-#include "error.h"
+#include "../base/error.h"
 
 /* A value that may be animated: [linear, a, b] gives a != b; a plain value
  * has a == b. */

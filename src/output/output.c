@@ -7,10 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic.h"
-#include "fsutil.h"
+#include "../base/atomic.h"
+#include "../base/fsutil.h"
 #include "info.h"
-#include "png_io.h"
+#include "../base/png_io.h"
 
 /* stdio buffer for the large outputs (CSV): 1 MiB keeps write() calls few. */
 #define CR_OUT_BUFSIZE (1u << 20)

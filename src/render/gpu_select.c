@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "gpu.h"
-#include "../io/sysconfig.h" /* CR_MAX_GPUS */
+#include "../base/limits.h" /* CR_MAX_GPUS */
 
 /* Append printf-style text to msg (size n), cut at the end. */
 static void cr_gpu_append(char *msg, size_t n, const char *fmt, ...)

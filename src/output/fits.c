@@ -7,11 +7,11 @@
 #include <string.h>
 
 #include "../core/trace.h"
-#include "atomic.h"
-#include "fsutil.h"
+#include "../base/atomic.h"
+#include "../base/fsutil.h"
 #include "info.h"
 #include "output.h"
-#include "sysconfig.h"
+#include "../input/sysconfig.h"
 
 #ifndef CURRAY_HAVE_FITS
 

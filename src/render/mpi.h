@@ -20,7 +20,7 @@
 #include <stddef.h>
 
 #include "../core/defs.h"
-#include "../io/error.h"
+#include "../base/error.h"
 
 /* MPI_Init (threads: funnelled); rank and size of MPI_COMM_WORLD, and the
  * rank on this node and the number of ranks there (MPI_Comm_split_type

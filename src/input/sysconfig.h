@@ -12,11 +12,8 @@
 
 #include <stddef.h>
 
-#include "error.h"
-
-#define CR_MAX_GPUS 64
-/* Largest cpu.threads accepted from a file. */
-#define CR_SYSCONFIG_MAX_THREADS 4096
+#include "../base/error.h"
+#include "../base/limits.h" /* CR_MAX_GPUS, CR_SYSCONFIG_MAX_THREADS */
 
 typedef struct cr_sysconfig {
     /* gpus: gpu_enabled[i] for device i; devices not listed are disabled,
@@ -33,7 +30,7 @@ typedef struct cr_sysconfig {
                                samples x samples rays per pixel */
     int verbose, quiet, keep_log, auto_accept;
     int video_fps;          /* video.fps: frames per second of -t v videos,
-                               1..CR_VIDEO_MAX_FPS (video.h), default 30 */
+                               1..CR_VIDEO_MAX_FPS (limits.h), default 30 */
     int video_keep_frames;  /* video.keep_frames: keep the PNG frames a video
                                was made from (default true) */
 } cr_sysconfig;

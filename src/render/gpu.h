@@ -16,7 +16,7 @@
 extern "C" {
 #endif
 
-#include "../io/error.h"
+#include "../base/error.h"
 
 /* Same contract as cr_progress_fn of the CPU backend: called from the
  * calling thread with the number of finished rows. */

@@ -26,8 +26,8 @@
 #define CR_IO_FITS_H
 
 #include "../core/defs.h"
-#include "error.h"
-#include "scene.h"
+#include "../base/error.h"
+#include "../input/scene.h"
 
 /* 1 when this build writes FITS (linked with cfitsio). */
 int cr_fits_available(void);

@@ -8,8 +8,8 @@
 #include <time.h>
 
 #include "../core/trace.h"
-#include "atomic.h"
-#include "fsutil.h"
+#include "../base/atomic.h"
+#include "../base/fsutil.h"
 
 #ifndef CURRAY_VERSION
 #define CURRAY_VERSION "unknown"

@@ -21,7 +21,7 @@
 #include <stddef.h>
 #include <yaml.h>
 
-#include "error.h"
+#include "../base/error.h"
 
 /* Size of a key path buffer; longer paths are truncated in messages only. */
 #define CR_YAML_PATH 160

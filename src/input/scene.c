@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "../core/trace.h"
-#include "png_io.h"
+#include "../base/png_io.h"
 #include "sysconfig.h"
 #include "yamlutil.h"
 

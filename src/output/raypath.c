@@ -4,8 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "atomic.h"
-#include "fsutil.h"
+#include "../base/atomic.h"
+#include "../base/fsutil.h"
 
 const char cr_raypath_csv_header[] = "param,t,r,theta,phi,x,y,z,ut,ur,utheta,uphi";
 

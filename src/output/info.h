@@ -17,10 +17,10 @@
 #include <stddef.h>
 
 #include "../core/defs.h"
-#include "atomic.h"
-#include "error.h"
-#include "scene.h"
-#include "sysconfig.h"
+#include "../base/atomic.h"
+#include "../base/error.h"
+#include "../input/scene.h"
+#include "../input/sysconfig.h"
 
 /* What info.txt and the console say after the count of rays that ended on
  * the step or turn limit (outcome "limit", painted in the scene's

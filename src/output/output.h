@@ -8,7 +8,7 @@
 #include <stdio.h>
 
 #include "../core/defs.h"
-#include "error.h"
+#include "../base/error.h"
 #include "info.h"
 
 /* Redshift colour of one pixel (6.9.1): R = 255 - 255 atan(z) 2/pi, G = 0,

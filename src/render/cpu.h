@@ -5,8 +5,8 @@
 #include <stdatomic.h>
 
 #include "../core/defs.h"
-#include "../io/error.h"
-#include "../io/sysconfig.h" /* CR_SYSCONFIG_MAX_THREADS: curray's one thread limit */
+#include "../base/error.h"
+#include "../base/limits.h" /* CR_SYSCONFIG_MAX_THREADS: curray's one thread limit */
 
 /* Called from the calling thread about every 0.25 s while a frame renders,
  * and once at the end, with the number of finished rows. */

@@ -27,9 +27,9 @@ int cr_video_from_pngs(const char *dir, const char *prefix, int n, int fps, cons
 #include <libavutil/opt.h>
 #include <libswscale/swscale.h>
 
-#include "atomic.h"
-#include "fsutil.h"
-#include "png_io.h"
+#include "../base/atomic.h"
+#include "../base/fsutil.h"
+#include "../base/png_io.h"
 
 int cr_video_available(void)
 {

@@ -9,7 +9,7 @@
 #include <stddef.h>
 
 #include "../core/trace.h"
-#include "error.h"
+#include "../base/error.h"
 
 /* Points per integrator step: the step's end plus dense-output points inside
  * it. Mino steps are long (tens per ray), so 8 points a step draw a smooth

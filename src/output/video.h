@@ -14,16 +14,14 @@
 #ifndef CR_IO_VIDEO_H
 #define CR_IO_VIDEO_H
 
-#include "error.h"
+#include "../base/error.h"
+#include "../base/limits.h" /* CR_VIDEO_MAX_FPS */
 
 #define CR_VIDEO_UNAVAILABLE                                                                   \
     "this curray was built without FFmpeg's libraries, so it cannot write videos (-t v); "     \
     "install them (Debian: apt-get install libavcodec-dev libavformat-dev libswscale-dev "     \
     "libavutil-dev, or tools/install-deps.sh) and build again"
 
-/* Default and limits of video.fps (frames per second). */
-#define CR_VIDEO_DEFAULT_FPS 30
-#define CR_VIDEO_MAX_FPS 1000
 
 /* 1 when this build writes videos. */
 int cr_video_available(void);

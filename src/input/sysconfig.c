@@ -8,7 +8,6 @@
 #include <string.h>
 
 #include "../core/trace.h"
-#include "video.h"
 #include "yamlutil.h"
 
 /* Largest configuration file read (bytes). */

@@ -1,4 +1,4 @@
-#include "render_cpu.h"
+#include "cpu.h"
 
 #include <pthread.h>
 #include <stdlib.h>
