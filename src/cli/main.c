@@ -37,6 +37,7 @@
 #include "crash.h"
 #include "interrupt.h"
 #include "../render/mpi.h"
+#include "lock.h"
 #include "resume.h"
 
 #define CR_EXIT_OK 0
@@ -77,6 +78,7 @@ typedef struct cr_run {
     char hash[17];    /* the run hash (resume.h) */
     char *stale;      /* stale frame files in the output folder, or NULL */
     cr_resume resume; /* --resume: the frames kept from the earlier run */
+    cr_dirlock dirlock; /* the output folder, this run's alone (lock.h) */
     int n_kept;       /* how many */
     char frame_types[16]; /* the per-frame files written: -t, plus c for v */
     /* MPI (mpi.h; curray_mpi): this rank and the number of ranks (0 of 1
@@ -734,7 +736,8 @@ static int cr_prepare_output(cr_run *run, cr_err *err)
 {
     char log_dir[4096];
     cr_err lerr;
-    if (cr_mkdir_p(run->cli.output_dir, err))
+    if (cr_mkdir_p(run->cli.output_dir, err) ||
+        cr_dirlock_take(&run->dirlock, run->cli.output_dir, err) < 0)
         return -1;
     if (cr_path_join(log_dir, sizeof log_dir, run->cli.output_dir, "log") != 0)
         log_dir[0] = '\0';
@@ -1124,6 +1127,8 @@ static int cr_check_folder(cr_run *run, cr_err *err)
                     run->cli.output_type, run->use_cuda, video, run->hash, err))
         return -1;
     run->info.hash = run->hash;
+    if (cr_dirlock_take(&run->dirlock, dir, err) < 0) /* 1: no folder yet, taken once made */
+        return -1;
     n = cr_stale_scan(dir, (int)run->cli.frames, run->frame_types, &run->stale);
     if (n < 0)
         return cr_err_set(err, "out of memory scanning %s", dir);
@@ -1309,6 +1314,7 @@ int main(int argc, char **argv)
         rc = CR_EXIT_ERROR;
     }
     cr_crash_uninstall();
+    cr_dirlock_release(&run.dirlock);
     free(run.settings);
     free(run.stale);
     cr_resume_free(&run.resume);
