@@ -9,7 +9,7 @@
 # matches c_0.png / r_0.png with a luma PSNR >= 35 dB (this chessboard
 # scene's RGB PSNR is only a sanity bound, >= 20 dB: yuv420p halves the
 # chroma resolution, which alone costs 28 dB RGB at its saturated edges at
-# this size even when coded losslessly; README "Videos"). The issue's
+# this size even when coded losslessly; docs/outputs.md "Videos"). The issue's
 # requirement, the first frame matching c_0.png with an RGB PSNR >= 35 dB
 # (all three channels), is checked on a Keplerian disc before a starry sky
 # (scenes/keplerian-interstellar.yml, 161x121, padded), whose colours are

@@ -219,7 +219,7 @@ def pixels_by_outcome(img):
 
 
 # Null-condition tolerance per integrator: mino's first-integral residuals
-# follow its tolerance 1e-7 (the error monitor of README "Integrators"),
+# follow its tolerance 1e-7 (the error monitor of docs/configuration.md, "Integrators"),
 # rk4 keeps E, L exact and its null error small; measured worst: mino 3.8e-8,
 # rk4 2.0e-8 on the Kerr-Newman scene below.
 NULL_TOL = {"mino": 1e-6, "rk4": 1e-6}
@@ -237,7 +237,7 @@ def test_trace_null_and_ends(scenes, integrator):
         i, j = pix[word]
         p = curray.trace(scenes["kn"], pixel=(i, j), width=W, height=H, integrator=integrator)
         assert p.outcome == word and len(p.r) >= 3
-        # README "Ray paths": the observer, then 8 points per mino step (its
+        # docs/command-line.md "Ray paths": the observer, then 8 points per mino step (its
         # dense output, the last step cut at the hit or the stop) or 1 per
         # rk4 step: exactly 1 + 8 steps or 1 + steps (steps as the image's)
         assert p.steps == img["steps"][j, i]
