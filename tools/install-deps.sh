@@ -15,7 +15,8 @@ pkgs=(cmake make gcc pkg-config libyaml-dev libpng-dev zlib1g-dev libcmocka-dev
       libopenmpi-dev openmpi-bin openssh-client
       libcfitsio-dev
       python3-dev python3-venv python3-numpy python3-pytest python3-astropy python3-setuptools
-      python3-wheel "$@")
+      python3-wheel
+      clang lld-14 wasi-libc libclang-rt-14-dev-wasm32 nodejs "$@")
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

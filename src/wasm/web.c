@@ -1,0 +1,492 @@
+/* curray web: the entry point of the WebAssembly build (web.h). */
+#include "web.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/trace.h"
+#include "../input/scene.h"
+#include "../input/sysconfig.h"
+#include "../output/output.h"
+
+struct cr_web {
+    cr_scene scene; /* animation-free: every cr_anim has a == b */
+    cr_scene_sphere spheres[CR_WEB_MAX_SPHERES];
+    cr_sphere sphere_buf[CR_WEB_MAX_SPHERES];
+    cr_trace_settings ts;
+    cr_frame frame;
+    int ready; /* frame evaluated without error */
+    int color2_default; /* accretion.color2 unset: the complement of color1 */
+    char name[64];      /* the scene's name in messages (the file it is saved as) */
+    cr_err err;
+};
+
+/* The scene file's "X deg" (cr_yaml_angle, operation for operation). */
+static double deg_to_rad(double v)
+{
+    return v / 180.0 * CR_PI;
+}
+
+static void anim_set(cr_anim *a, double v)
+{
+    a->a = a->b = v;
+}
+
+static cr_rgb rgb_of(double v)
+{
+    long c = (long)v;
+    return cr_rgb_make((int)((c >> 16) & 255), (int)((c >> 8) & 255), (int)(c & 255));
+}
+
+/* The parser's defaults for everything a scene file may leave out
+ * (scene.c: parse_scene, parse_accretion, parse_observer). */
+static void scene_defaults(cr_web *w)
+{
+    cr_scene *s = &w->scene;
+    memset(s, 0, sizeof *s);
+    strcpy(w->name, "scene.yml");
+    s->path = w->name;
+    w->color2_default = 1;
+    s->sky_color = cr_rgb_make(0, 0, 0);
+    s->horizon_color = cr_rgb_make(255, 0, 0);
+    s->error_color = cr_rgb_make(0, 0, 255);
+    s->limit_color = cr_rgb_make(255, 255, 0);
+    s->obs_motion = CR_MOTION_STATIC;
+    s->obs_projection = CR_PROJ_RECTILINEAR;
+    s->disc_model = CR_DISC_CHESSBOARD;
+    s->disc_temperature = 1e4;
+    s->disc_has_r_in = 1;
+    s->disc_color1 = cr_rgb_make(255, 255, 255);
+    s->disc_color2 = cr_rgb_make(0, 0, 0);
+    s->disc_n_radial = s->disc_n_sectors = 1;
+    s->sky_at_infinity = 1;
+    s->spheres = w->spheres;
+    s->n_spheres = 0;
+    w->ts.integrator = CR_DEFAULT_INTEGRATOR;
+    w->ts.tolerance = CR_DEFAULT_TOLERANCE;
+    w->ts.step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
+    w->ts.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
+    w->ts.max_steps = CR_DEFAULT_MAX_STEPS;
+    w->ts.max_turns = CR_DEFAULT_MAX_TURNS;
+    w->ts.samples = 1;
+}
+
+cr_web *cr_web_new(void)
+{
+    cr_web *w = calloc(1, sizeof *w);
+    if (w)
+        scene_defaults(w);
+    return w;
+}
+
+void cr_web_free(cr_web *w)
+{
+    if (!w)
+        return;
+    free(w->scene.sky_rgb);
+    free(w);
+}
+
+static int fail(cr_web *w, const char *what, const char *key)
+{
+    w->ready = 0;
+    return cr_err_set(&w->err, "%s '%s'", what, key);
+}
+
+/* Keys of a sphere (the one added last). */
+static int set_sphere(cr_web *w, const char *k, double v)
+{
+    cr_scene_sphere *sp;
+    if (w->scene.n_spheres < 1)
+        return -1;
+    sp = &w->spheres[w->scene.n_spheres - 1];
+    if (!strcmp(k, "color"))
+        sp->color = rgb_of(v);
+    else if (!strcmp(k, "n_lat"))
+        sp->n_lat = (int)v;
+    else if (!strcmp(k, "n_lon"))
+        sp->n_lon = (int)v;
+    else if (!strcmp(k, "r"))
+        anim_set(&sp->r, v);
+    else if (!strcmp(k, "theta"))
+        anim_set(&sp->theta, deg_to_rad(v));
+    else if (!strcmp(k, "phi"))
+        anim_set(&sp->phi, deg_to_rad(v));
+    else if (!strcmp(k, "roll"))
+        anim_set(&sp->roll, deg_to_rad(v));
+    else if (!strcmp(k, "pitch"))
+        anim_set(&sp->pitch, deg_to_rad(v));
+    else if (!strcmp(k, "yaw"))
+        anim_set(&sp->yaw, deg_to_rad(v));
+    else if (!strcmp(k, "radius"))
+        anim_set(&sp->radius, v);
+    else
+        return -1;
+    return 0;
+}
+
+static int set_observer(cr_scene *s, const char *k, double v)
+{
+    if (!strcmp(k, "r")) {
+        s->obs_at_infinity = isinf(v) && v > 0.0;
+        anim_set(&s->obs_r, v);
+    } else if (!strcmp(k, "theta"))
+        anim_set(&s->obs_theta, deg_to_rad(v));
+    else if (!strcmp(k, "phi"))
+        anim_set(&s->obs_phi, deg_to_rad(v));
+    else if (!strcmp(k, "roll"))
+        anim_set(&s->roll, deg_to_rad(v));
+    else if (!strcmp(k, "pitch"))
+        anim_set(&s->pitch, deg_to_rad(v));
+    else if (!strcmp(k, "yaw"))
+        anim_set(&s->yaw, deg_to_rad(v));
+    else if (!strcmp(k, "hfov"))
+        anim_set(&s->hfov, deg_to_rad(v));
+    else if (!strcmp(k, "vfov")) {
+        s->has_vfov = !isnan(v);
+        anim_set(&s->vfov, s->has_vfov ? deg_to_rad(v) : 0.0);
+    } else if (!strcmp(k, "hextent"))
+        anim_set(&s->hextent, v);
+    else if (!strcmp(k, "vextent")) {
+        s->has_vextent = !isnan(v);
+        anim_set(&s->vextent, s->has_vextent ? v : 0.0);
+    } else if (!strcmp(k, "v_r"))
+        anim_set(&s->obs_v[0], v);
+    else if (!strcmp(k, "v_theta"))
+        anim_set(&s->obs_v[1], v);
+    else if (!strcmp(k, "v_phi"))
+        anim_set(&s->obs_v[2], v);
+    else if (!strcmp(k, "retrograde"))
+        s->obs_retrograde = v != 0.0;
+    else
+        return -1;
+    return 0;
+}
+
+static int set_accretion(cr_web *w, const char *k, double v)
+{
+    cr_scene *s = &w->scene;
+    if (!strcmp(k, "enabled"))
+        s->has_disc = v != 0.0;
+    else if (!strcmp(k, "color1"))
+        s->disc_color1 = rgb_of(v);
+    else if (!strcmp(k, "color2")) {
+        w->color2_default = isnan(v);
+        s->disc_color2 = rgb_of(isnan(v) ? 0.0 : v);
+    }
+    else if (!strcmp(k, "n_radial"))
+        s->disc_n_radial = (int)v;
+    else if (!strcmp(k, "n_sectors"))
+        s->disc_n_sectors = (int)v;
+    else if (!strcmp(k, "yaw"))
+        anim_set(&s->disc_yaw, deg_to_rad(v));
+    else if (!strcmp(k, "r_in")) {
+        s->disc_has_r_in = !isnan(v);
+        anim_set(&s->disc_r_in, s->disc_has_r_in ? v : 0.0);
+    } else if (!strcmp(k, "r_out"))
+        anim_set(&s->disc_r_out, v);
+    else if (!strcmp(k, "retrograde"))
+        s->disc_retrograde = v != 0.0;
+    else if (!strcmp(k, "temperature"))
+        s->disc_temperature = v;
+    else if (!strcmp(k, "mass_msun"))
+        s->disc_mass_msun = isnan(v) ? 0.0 : v;
+    else if (!strcmp(k, "mdot_edd"))
+        s->disc_mdot_edd = isnan(v) ? 0.0 : v;
+    else
+        return -1;
+    return 0;
+}
+
+static int set_raytracer(cr_trace_settings *ts, const char *k, double v)
+{
+    if (!strcmp(k, "tolerance"))
+        ts->tolerance = v;
+    else if (!strcmp(k, "step_multiplier"))
+        ts->step_multiplier = v;
+    else if (!strcmp(k, "horizon_epsilon"))
+        ts->horizon_epsilon = v;
+    else if (!strcmp(k, "max_steps"))
+        ts->max_steps = (long)v;
+    else if (!strcmp(k, "max_turns"))
+        ts->max_turns = v;
+    else if (!strcmp(k, "samples"))
+        ts->samples = (int)v;
+    else
+        return -1;
+    return 0;
+}
+
+/* key = "section.name": the part after the dot when section matches. */
+static const char *in_section(const char *key, const char *section)
+{
+    size_t n = strlen(section);
+    return strncmp(key, section, n) == 0 && key[n] == '.' ? key + n + 1 : NULL;
+}
+
+int cr_web_set(cr_web *w, const char *key, double v)
+{
+    cr_scene *s = &w->scene;
+    const char *k;
+    int rc = -1;
+    w->ready = 0;
+    if ((k = in_section(key, "metric"))) {
+        rc = 0;
+        if (!strcmp(k, "m"))
+            anim_set(&s->m, v);
+        else if (!strcmp(k, "a"))
+            anim_set(&s->a, v);
+        else if (!strcmp(k, "q"))
+            anim_set(&s->q, v);
+        else
+            rc = -1;
+    } else if ((k = in_section(key, "observer")))
+        rc = set_observer(s, k, v);
+    else if ((k = in_section(key, "accretion")))
+        rc = set_accretion(w, k, v);
+    else if ((k = in_section(key, "sphere")))
+        rc = set_sphere(w, k, v);
+    else if ((k = in_section(key, "raytracer")))
+        rc = set_raytracer(&w->ts, k, v);
+    else if (!strcmp(key, "skymap.boundary")) {
+        s->sky_at_infinity = isinf(v) && v > 0.0;
+        anim_set(&s->sky_boundary, s->sky_at_infinity ? 0.0 : v);
+        rc = 0;
+    } else if (!strcmp(key, "sky_color") || !strcmp(key, "horizon_color") ||
+               !strcmp(key, "error_color") || !strcmp(key, "limit_color")) {
+        cr_rgb c = rgb_of(v);
+        rc = 0;
+        if (key[0] == 's')
+            s->sky_color = c;
+        else if (key[0] == 'h')
+            s->horizon_color = c;
+        else if (key[0] == 'e')
+            s->error_color = c;
+        else
+            s->limit_color = c;
+    } else if (!strcmp(key, "redshift_sky")) {
+        s->redshift_sky = v != 0.0;
+        rc = 0;
+    }
+    return rc ? fail(w, "unknown scene key", key) : 0;
+}
+
+/* index of word in names[0..n), or -1 */
+static int word_index(const char *word, const char *const *names, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!strcmp(word, names[i]))
+            return i;
+    return -1;
+}
+
+int cr_web_set_word(cr_web *w, const char *key, const char *word)
+{
+    /* the words of the scene file, in the order of their enums (defs.h) */
+    static const char *const motions[] = {"static", "zamo", "orbit", "infall", "velocity"};
+    static const char *const projections[] = {"rectilinear", "fisheye", "equirectangular"};
+    static const char *const models[] = {"chessboard", "keplerian"};
+    static const char *const inside[] = {"nothing", "plunging"};
+    cr_scene *s = &w->scene;
+    int i;
+    w->ready = 0;
+    if (!strcmp(key, "observer.motion")) {
+        if ((i = word_index(word, motions, 5)) < 0)
+            return fail(w, "unknown motion", word);
+        s->obs_motion = i;
+    } else if (!strcmp(key, "observer.projection")) {
+        if ((i = word_index(word, projections, 3)) < 0)
+            return fail(w, "unknown projection", word);
+        s->obs_projection = i;
+    } else if (!strcmp(key, "accretion.model")) {
+        if ((i = word_index(word, models, 2)) < 0)
+            return fail(w, "unknown disc model", word);
+        s->disc_model = i;
+    } else if (!strcmp(key, "accretion.inside_isco")) {
+        if ((i = word_index(word, inside, 2)) < 0)
+            return fail(w, "unknown value of accretion.inside_isco", word);
+        s->disc_plunge = i;
+    } else if (!strcmp(key, "name")) {
+        size_t n = strlen(word);
+        if (n + 1 > sizeof w->name)
+            return fail(w, "name too long", word);
+        memcpy(w->name, word, n + 1);
+    } else if (!strcmp(key, "raytracer.integrator")) {
+        if ((i = cr_integrator_parse(word, strlen(word))) < 0)
+            return fail(w, "unknown integrator", word);
+        w->ts.integrator = i;
+    } else
+        return fail(w, "unknown scene key", key);
+    return 0;
+}
+
+uint8_t *cr_web_sky(cr_web *w, int width, int height)
+{
+    cr_scene *s = &w->scene;
+    w->ready = 0;
+    free(s->sky_rgb);
+    s->sky_rgb = NULL;
+    s->has_sky = 0;
+    s->sky_width = s->sky_height = 0;
+    if (width < 1 || height < 1 || (long)width * height > CR_WEB_MAX_SKY_PIXELS)
+        return NULL;
+    s->sky_rgb = malloc((size_t)width * (size_t)height * 3);
+    if (!s->sky_rgb)
+        return NULL;
+    s->has_sky = 1;
+    s->sky_width = width;
+    s->sky_height = height;
+    return s->sky_rgb;
+}
+
+void cr_web_clear_spheres(cr_web *w)
+{
+    w->ready = 0;
+    w->scene.n_spheres = 0;
+}
+
+int cr_web_add_sphere(cr_web *w)
+{
+    cr_scene_sphere *sp;
+    w->ready = 0;
+    if (w->scene.n_spheres >= CR_WEB_MAX_SPHERES)
+        return cr_err_set(&w->err, "at most %d spheres", CR_WEB_MAX_SPHERES);
+    sp = &w->spheres[w->scene.n_spheres++];
+    memset(sp, 0, sizeof *sp);
+    sp->line = w->scene.n_spheres;
+    return 0;
+}
+
+int cr_web_frame(cr_web *w, int width, int height)
+{
+    cr_scene *s = &w->scene;
+    w->err.msg[0] = '\0';
+    if (w->color2_default) /* (E.4.2) with ERRATA item 3, as the parser does */
+        s->disc_color2 = cr_rgb_make(255 - s->disc_color1.r, 255 - s->disc_color1.g,
+                                     255 - s->disc_color1.b);
+    w->ready = cr_scene_frame(&w->scene, 0, 1, width, height, &w->ts, &w->frame,
+                              w->sphere_buf, &w->err) == 0;
+    return w->ready ? 0 : -1;
+}
+
+const char *cr_web_message(const cr_web *w)
+{
+    return w->err.msg;
+}
+
+int cr_web_width(const cr_web *w)
+{
+    return w->ready ? w->frame.width : 0;
+}
+
+int cr_web_height(const cr_web *w)
+{
+    return w->ready ? w->frame.height : 0;
+}
+
+int cr_web_trace(const cr_web *w, const int32_t *pix, int n, uint8_t *rgb, uint8_t *outcome,
+                 double *val)
+{
+    const cr_frame *f = &w->frame;
+    int k;
+    if (!w->ready)
+        return 0;
+    for (k = 0; k < n; k++) {
+        int32_t p = pix[k];
+        cr_pixel px;
+        cr_pixel_values v;
+        cr_rgb c[3];
+        int m;
+        if (p < 0 || p / f->width >= f->height)
+            return 0;
+        px = cr_trace_pixel(f, p % f->width, p / f->width);
+        v = cr_pixel_csv_values(&px);
+        c[0] = px.color;
+        c[1] = w->scene.redshift_sky ? cr_redshift_sky_color(&px) : cr_redshift_color(&px);
+        c[2] = cr_bolometric_color(&px);
+        for (m = 0; m < 3; m++) {
+            rgb[9 * k + 3 * m] = c[m].r;
+            rgb[9 * k + 3 * m + 1] = c[m].g;
+            rgb[9 * k + 3 * m + 2] = c[m].b;
+        }
+        outcome[k] = px.outcome;
+        val[4 * k] = v.redshift;
+        val[4 * k + 1] = v.hit_r;
+        val[4 * k + 2] = v.hit_phi;
+        val[4 * k + 3] = v.bolometric;
+    }
+    return n;
+}
+
+int cr_web_probe(const cr_web *w, double x, double y, double *out)
+{
+    const cr_frame *f = &w->frame;
+    cr_pixel px;
+    cr_pixel_values v;
+    if (!w->ready)
+        return -1;
+    px = cr_trace_point(f, x, y);
+    v = cr_pixel_csv_values(&px);
+    out[CR_WEB_PROBE_OUTCOME] = px.outcome;
+    out[CR_WEB_PROBE_REDSHIFT] = v.redshift;
+    out[CR_WEB_PROBE_HIT_R] = v.hit_r;
+    out[CR_WEB_PROBE_HIT_PHI] = v.hit_phi;
+    out[CR_WEB_PROBE_BOLO] = v.bolometric;
+    out[CR_WEB_PROBE_STEPS] = px.steps;
+    out[CR_WEB_PROBE_OBJECT] = px.object;
+    out[CR_WEB_PROBE_E] = out[CR_WEB_PROBE_L] = out[CR_WEB_PROBE_CARTER] = NAN;
+    if (px.outcome != CR_OUT_OUTSIDE) {
+        if (f->obs_at_inf) {
+            double alpha, beta, m[CR_MN];
+            cr_mino c;
+            cr_camera_screen(f, x, y, &alpha, &beta);
+            cr_mino_from_infinity(f, alpha, beta, &c, m);
+            out[CR_WEB_PROBE_E] = c.E;
+            out[CR_WEB_PROBE_L] = c.L;
+            out[CR_WEB_PROBE_CARTER] = c.eta;
+        } else {
+            double n[3], yb[CR_NY];
+            cr_geo g;
+            cr_camera_pixel_dir(f, x, y, n);
+            cr_camera_ray(f, n, &g, yb);
+            out[CR_WEB_PROBE_E] = g.E;
+            out[CR_WEB_PROBE_L] = g.L;
+            out[CR_WEB_PROBE_CARTER] = cr_geo_carter(&g, yb);
+        }
+    }
+    out[CR_WEB_PROBE_R_PLUS] = cr_metric_r_plus(&f->metric);
+    return 0;
+}
+
+int cr_web_reproject(const cr_web *view, const cr_web *sky, const uint8_t *sky_rgba,
+                     uint8_t *out_rgba)
+{
+    const cr_frame *fv = &view->frame, *fs = &sky->frame;
+    int i, j;
+    if (!view->ready || !sky->ready || fs->observer.projection != CR_PROJ_EQUIRECT ||
+        fv->obs_at_inf)
+        return -1;
+    for (j = 0; j < fv->height; j++)
+        for (i = 0; i < fv->width; i++) {
+            uint8_t *o = out_rgba + 4 * ((size_t)j * fv->width + i);
+            double n[3], si, sj;
+            long x, y;
+            o[0] = o[1] = o[2] = 0;
+            o[3] = 255;
+            if (!cr_camera_in_image(fv, i, j))
+                continue;
+            cr_camera_pixel_dir(fv, i, j, n);
+            if (!cr_camera_dir_pixel(fs, n, &si, &sj))
+                continue;
+            /* nearest pixel; azimuth wraps around, the poles clamp */
+            x = lround(si) % fs->width;
+            x = x < 0 ? x + fs->width : x;
+            y = lround(sj);
+            y = y < 0 ? 0 : (y >= fs->height ? fs->height - 1 : y);
+            memcpy(o, sky_rgba + 4 * ((size_t)y * fs->width + x), 4);
+        }
+    return 0;
+}
