@@ -84,5 +84,21 @@ if(CURRAY_HAVE_WASM)
   set(CURRAY_WASM_CORE ${CMAKE_BINARY_DIR}/web/curray-core.wasm)
   cr_wasm_link(OUTPUT ${CURRAY_WASM_CORE} REACTOR
                SOURCES src/wasm/web.c ${CURRAY_WASM_HOST_SOURCES})
-  add_custom_target(curray_wasm ALL DEPENDS ${CURRAY_WASM_CORE})
+  # the page as one static folder, build/web (web/bundle.py)
+  find_package(Python3 COMPONENTS Interpreter)
+  if(Python3_Interpreter_FOUND)
+    set(_cr_page index.html style.css core.js yaml.js app.js bundle.py)
+    list(TRANSFORM _cr_page PREPEND ${PROJECT_SOURCE_DIR}/web/)
+    set(_cr_tex ${PROJECT_SOURCE_DIR}/scenes/sky.png ${PROJECT_SOURCE_DIR}/scenes/sky_grid.png)
+    set(CURRAY_WEB_DIR ${CMAKE_BINARY_DIR}/web)
+    add_custom_command(OUTPUT ${CURRAY_WEB_DIR}/index.html ${CURRAY_WEB_DIR}/curray-core.js
+                       COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/web/bundle.py
+                               ${CURRAY_WEB_DIR} ${CURRAY_WASM_CORE} ${_cr_tex}
+                       DEPENDS ${_cr_page} ${_cr_tex} ${CURRAY_WASM_CORE}
+                       COMMENT "web: the browser explorer in ${CURRAY_WEB_DIR}" VERBATIM)
+    add_custom_target(curray_wasm ALL DEPENDS ${CURRAY_WASM_CORE} ${CURRAY_WEB_DIR}/index.html)
+  else()
+    message(STATUS "curray: Python 3 not found: the page (build/web) is not assembled")
+    add_custom_target(curray_wasm ALL DEPENDS ${CURRAY_WASM_CORE})
+  endif()
 endif()
