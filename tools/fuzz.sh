@@ -4,8 +4,9 @@
 #   tools/fuzz.sh [SECONDS per target, default 60] [BUILD dir, default build-fuzz] [TARGET...]
 #
 # Builds the targets when needed (clang; CC=clang cmake -DCURRAY_FUZZ=ON),
-# seeds each target with the shipped scenes or configurations, its
-# regressions (tests/fuzz/regressions/<target>) and tests/fuzz/yaml.dict,
+# seeds each target with the shipped scenes or configurations (fuzz_cli:
+# its regressions alone), its regressions (tests/fuzz/regressions/<target>)
+# and its dictionary (tests/fuzz/<target>.dict, else tests/fuzz/yaml.dict),
 # and keeps the corpus it grows in BUILD/corpus/<target> for the next run.
 # The fuzzers run in BUILD/fuzz-work, where the sky images the seed scenes
 # name (sky.png, sky_grid.png) are tiny, so that loading them stays cheap.
@@ -20,7 +21,7 @@ SECONDS_EACH=${1:-60}
 BUILD=${2:-build-fuzz}
 shift $(($# > 2 ? 2 : $#))
 TARGETS=("$@")
-[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(scene sysconfig)
+[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(scene sysconfig cli)
 
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
     CC=clang cmake -S . -B "$BUILD" -DCURRAY_FUZZ=ON -DCURRAY_CUDA=OFF -DCURRAY_TESTS=OFF \
@@ -33,7 +34,7 @@ BUILD=$(cd "$BUILD" && pwd)
 WORKDIR=$BUILD/fuzz-work
 SEEDS=$BUILD/fuzz-seeds
 rm -rf "$WORKDIR" "$SEEDS"
-mkdir -p "$WORKDIR" "$SEEDS/scene" "$SEEDS/sysconfig"
+mkdir -p "$WORKDIR" "$SEEDS/scene" "$SEEDS/sysconfig" "$SEEDS/cli"
 "$BUILD/tools/curray-skygen" grid "$WORKDIR/sky.png" 16 8 >/dev/null
 cp "$WORKDIR/sky.png" "$WORKDIR/sky_grid.png"
 cp scenes/*.yml tests/data/scene*.yml "$SEEDS/scene/"
@@ -43,11 +44,13 @@ status=0
 for t in "${TARGETS[@]}"; do
     mkdir -p "$BUILD/corpus/$t" "tests/fuzz/regressions/$t"
     echo "== fuzz_$t: ${SECONDS_EACH} s"
+    dict=$ROOT/tests/fuzz/$t.dict
+    [ -f "$dict" ] || dict=$ROOT/tests/fuzz/yaml.dict
     log=$BUILD/fuzz-$t.log
     # -timeout: one input taking 10 s is a hang; -rss_limit_mb: a runaway
     # allocation is a finding too.
     if (cd "$WORKDIR" && "$BUILD/tests/fuzz/fuzz_$t" -max_total_time="$SECONDS_EACH" \
-        -dict="$ROOT/tests/fuzz/yaml.dict" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
+        -dict="$dict" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
         -print_final_stats=1 -artifact_prefix="$BUILD/" \
         "$BUILD/corpus/$t" "$ROOT/tests/fuzz/regressions/$t" "$SEEDS/$t") >"$log" 2>&1; then
         :

@@ -107,7 +107,14 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
     c->output_type = "icr";
     c->verbose = c->quiet = c->auto_accept = -1;
     c->backend = prog_cpu_only ? CR_BACKEND_CPU : CR_BACKEND_AUTO;
+    /* getopt keeps its place inside a word between calls; glibc starts afresh
+     * only at optind = 0 (else a parse that stopped inside "-Zi" would go on
+     * in the old words), elsewhere optind = 1 is the reset */
+#ifdef __GLIBC__
+    optind = 0;
+#else
     optind = 1;
+#endif
     opterr = 0;
     while ((opt = getopt_long(argc, argv, "+:s:o:x:y:f:t:c:v:q:a:ih", longopts, NULL)) != -1) {
         int *flag = NULL;
@@ -187,8 +194,11 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
         if (flag) {
             if (cr_parse_bool(optarg, flag) == 0)
                 continue;
-            if (optarg[0] == '-') {
-                /* "-v -s x": -v given without a value; the next word is an option */
+            if (optarg[0] == '-' && optarg == argv[optind - 1]) {
+                /* "-v -s x": -v given without a value; the next word is an option,
+                 * read again. A value glued to its option ("-q-a", "--verbose=-x")
+                 * is that option's value, never an option of its own: stepping
+                 * back over it would read the same word forever. */
                 *flag = 1;
                 optind--;
                 continue;

@@ -223,6 +223,13 @@ expect "unknown configuration key" 1 "c.yml:2:7: unknown key 'verbos' in log" \
     -s good.yml -c c.yml -o o -x 8 -y 8
 expect "--backend with an unknown name" 2 "--backend: expected auto, cpu or cuda, got 'gpu'" \
     -s good.yml -o o -x 8 -y 8 --backend gpu
+# a value glued to -v/-q/-a is that option's value, refused when it is not
+# true or false (it used to be stepped back over and re-read forever)
+expect "glued value -q-a" 2 "-q: expected true or false, got '-a'" -s good.yml -o o -x 8 -y 8 -q-a
+expect "glued value -v-1" 2 "-v: expected true or false, got '-1'" -s good.yml -o o -x 8 -y 8 -v-1
+expect "glued value -a-q" 2 "-a: expected true or false, got '-q'" -s good.yml -o o -x 8 -y 8 -a-q
+expect "glued value --verbose=-x" 2 "-v: expected true or false, got '-x'" \
+    -s good.yml -o o -x 8 -y 8 --verbose=-x
 expect "--threads above the limit" 2 "--threads: expected a number of threads from 1 to 4096, got '4097'" \
     -s good.yml -o o -x 8 -y 8 --threads 4097
 printf 'cpu: {threads: 4097}\n' >c.yml
