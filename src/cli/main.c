@@ -211,6 +211,7 @@ static int cr_finish_frame(cr_worker *w, int k, const cr_frame_stats *st, cr_err
     int rc = 0;
     pthread_mutex_lock(&run->lock);
     run->stats[k] = *st;
+    run->stats[k].files = NULL; /* the caller's text, freed after this call */
     run->done[k] = 1;
     run->n_done++;
     w->frac = 0.0;
@@ -277,7 +278,7 @@ static int cr_output_frame(cr_worker *w, int k, const cr_pixel *px, int width, i
     static const char types[] = "crdbf";
     cr_run *run = w->run;
     cr_frame_stats st;
-    char written[6] = "";
+    char written[6] = "", *files = NULL;
     int n_written = 0, i;
     cr_frame_stats_compute(px, (long long)width * height, seconds, &st);
     st.frame = k;
@@ -289,9 +290,16 @@ static int cr_output_frame(cr_worker *w, int k, const cr_pixel *px, int width, i
             goto fail;
         written[n_written++] = types[i];
     }
-    if (cr_finish_frame(w, k, &st, err) == 0)
+    if (cr_has_type(run, 'i') && /* sizes and checksums for --resume */
+        cr_frame_files_describe(run->cli.output_dir, k, written, &files, err))
+        goto fail;
+    st.files = files;
+    if (cr_finish_frame(w, k, &st, err) == 0) {
+        free(files);
         return 0;
+    }
 fail:
+    free(files);
     cr_remove_frame_files(run, k, written);
     cr_interrupt_frame_end(&run->intr, w->slot);
     cr_worker_idle(w);
@@ -1093,19 +1101,6 @@ static int cr_report(cr_run *run)
     return CR_EXIT_OK;
 }
 
-/* Are all of frame k's files present? (Written atomically, a present file
- * is complete.) */
-static int cr_frame_files_present(const cr_run *run, int k)
-{
-    char name[64];
-    const char *t;
-    for (t = run->frame_types; *t; t++)
-        if (cr_frame_file_name(*t, k, name, sizeof name) == 0 &&
-            !cr_file_exists(run->cli.output_dir, name))
-            return 0;
-    return 1;
-}
-
 /* What the output folder holds already (resume.h): the run hash for
  * info.txt; stale frame files, reported on the console and in info.txt and
  * never deleted; with --resume, the earlier run's finished frames (a record
@@ -1148,9 +1143,12 @@ static int cr_check_folder(cr_run *run, cr_err *err)
     if (cr_resume_load(&run->resume, dir, run->hash, (int)run->cli.frames, err))
         return -1;
     run->info.started = run->resume.started[0] ? run->resume.started : NULL;
-    for (k = 0; k < run->cli.frames; k++)
-        if (cr_frame_kept(run, k) && !cr_frame_files_present(run, k))
-            cr_resume_drop(&run->resume, k);
+    if ((k = cr_resume_verify(&run->resume, dir, run->frame_types, err)) < 0)
+        return -1;
+    if (k > 0)
+        cr_log_info(&run->log, "curray: warning: --resume: %d finished frame%s rendered again: "
+                    "%s no longer match%s info.txt (%s)", k, k > 1 ? "s are" : " is",
+                    k > 1 ? "their files" : "its files", k > 1 ? "" : "es", run->resume.why);
     run->n_kept = run->resume.n_records;
     cr_log_info(&run->log, "resuming: %d of %ld frame%s finished by the earlier run, %ld to render",
                 run->n_kept, run->cli.frames, run->cli.frames > 1 ? "s" : "",

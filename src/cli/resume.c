@@ -3,14 +3,18 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <inttypes.h>
 #include <signal.h>
+#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include "../base/fsutil.h"
 
@@ -30,12 +34,6 @@ int cr_frame_file_name(char t, int k, char *out, size_t n)
             return len < 0 || (size_t)len >= n ? -1 : 0;
         }
     return -1;
-}
-
-int cr_file_exists(const char *dir, const char *name)
-{
-    char path[4096];
-    return cr_path_join(path, sizeof path, dir, name) == 0 && access(path, F_OK) == 0;
 }
 
 /* If name is a frame file "<t>_<k>.<ext>", its type and frame; else -1. */
@@ -257,6 +255,21 @@ static char *cr_read_text(const char *path)
     return buf;
 }
 
+/* A frame record's first line "Frame <k>\n" at p: k (0 <= k < frames), or
+ * -1. Reads only that line: the scan of info.txt stays linear in its size. */
+static int cr_record_frame(const char *p, int frames)
+{
+    long k = 0;
+    int digits = 0;
+    if (strncmp(p, "Frame ", 6) != 0)
+        return -1;
+    for (p += 6; *p >= '0' && *p <= '9' && digits < 10; p++, digits++)
+        k = 10 * k + (*p - '0');
+    if (digits == 0 || *p != '\n' || k >= frames)
+        return -1;
+    return (int)k;
+}
+
 int cr_resume_load(cr_resume *r, const char *dir, const char *hash, int frames, cr_err *err)
 {
     char path[4096], *text, *p, *line;
@@ -307,13 +320,16 @@ int cr_resume_load(cr_resume *r, const char *dir, const char *hash, int frames, 
         cr_resume_free(r);
         return cr_err_set(err, "--resume: out of memory");
     }
-    /* records: "Frame <k>\n" ... up to the line "Finished ..." */
-    for (line = text; line && *line; line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL) {
-        int k, end = 0;
-        char *fin;
-        if (sscanf(line, "Frame %d%n", &k, &end) != 1 || line[end] != '\n' || k < 0 ||
-            k >= frames)
+    /* records: "Frame <k>\n" ... up to the line "Finished ..."; every step
+     * moves forward, each byte is looked at a bounded number of times */
+    for (line = text; line && *line;) {
+        int k = cr_record_frame(line, frames);
+        char *fin, *nl;
+        if (k < 0) {
+            nl = strchr(line, '\n');
+            line = nl ? nl + 1 : NULL;
             continue;
+        }
         fin = strstr(line, "\nFinished ");
         if (!fin)
             break; /* cannot happen with whole records; take nothing more */
@@ -332,17 +348,167 @@ int cr_resume_load(cr_resume *r, const char *dir, const char *hash, int frames, 
     return 0;
 }
 
-void cr_resume_drop(cr_resume *r, int k)
+/* The label of a file line of a frame record ("  %-22s " of "frame file") */
+#define CR_FILE_LABEL "  frame file             "
+
+/* Size and CRC-32 (zlib) of the regular file open as fd. */
+static int cr_file_sum(int fd, long long *size, unsigned long *crc)
 {
-    int i, j;
-    if (k < 0 || k >= r->frames || !r->body || !r->body[k])
-        return;
-    free(r->body[k]);
-    r->body[k] = NULL;
+    static const size_t chunk = 1 << 20;
+    unsigned char *buf = malloc(chunk);
+    uLong c = crc32(0L, Z_NULL, 0);
+    long long n_all = 0;
+    ssize_t n;
+    if (!buf)
+        return -1;
+    while ((n = read(fd, buf, chunk)) > 0) {
+        c = crc32(c, buf, (uInt)n);
+        n_all += n;
+    }
+    free(buf);
+    if (n < 0)
+        return -1;
+    *size = n_all;
+    *crc = (unsigned long)c;
+    return 0;
+}
+
+int cr_frame_files_describe(const char *dir, int k, const char *types, char **text, cr_err *err)
+{
+    size_t len = 0;
+    FILE *fp;
+    *text = NULL;
+    if (!*types)
+        return 0;
+    fp = open_memstream(text, &len);
+    if (!fp)
+        return cr_err_set(err, "out of memory");
+    for (const char *t = types; *t; t++) {
+        char name[64], path[4096];
+        long long size;
+        unsigned long crc;
+        int fd, rc;
+        if (cr_frame_file_name(*t, k, name, sizeof name) != 0 ||
+            cr_path_join(path, sizeof path, dir, name) != 0)
+            continue;
+        fd = open(path, O_RDONLY | O_CLOEXEC);
+        rc = fd < 0 ? -1 : cr_file_sum(fd, &size, &crc);
+        if (fd >= 0)
+            close(fd);
+        if (rc != 0) {
+            fclose(fp);
+            free(*text);
+            *text = NULL;
+            return cr_err_set(err, "cannot read back '%s' for its checksum: %s", path,
+                              strerror(errno));
+        }
+        fprintf(fp, CR_FILE_LABEL "%s %lld bytes, crc32 %08lx\n", name, size, crc);
+    }
+    if (fclose(fp) != 0) {
+        free(*text);
+        *text = NULL;
+        return cr_err_set(err, "out of memory");
+    }
+    return 0;
+}
+
+/* snprintf into why, where a long path is cut short on purpose */
+static void cr_why(char *why, size_t n, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+static void cr_why(char *why, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, n, fmt, ap);
+    va_end(ap);
+}
+
+/* Does frame k's file of type t match its line in body? 1 yes; 0 no, with
+ * why; -1 when it is a folder (with why): nothing can replace it. */
+static int cr_frame_file_matches(const char *body, const char *dir, char t, int k, char *why,
+                                 size_t n)
+{
+    char name[64], path[4096], want[96];
+    const char *line;
+    long long size, rec_size;
+    unsigned long crc, rec_crc;
+    struct stat st;
+    int fd, rc;
+    if (cr_frame_file_name(t, k, name, sizeof name) != 0 ||
+        cr_path_join(path, sizeof path, dir, name) != 0)
+        return 1;
+    snprintf(want, sizeof want, "\n" CR_FILE_LABEL "%s ", name);
+    line = strstr(body, want);
+    if (lstat(path, &st) != 0) {
+        cr_why(why, n, "%s is missing", name);
+        return 0;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        cr_why(why, n, "%s is a folder, where frame %d's file belongs", path, k);
+        return -1;
+    }
+    if (S_ISLNK(st.st_mode)) {
+        cr_why(why, n, "%s is a symbolic link, not a file curray wrote", name);
+        return 0;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        cr_why(why, n, "%s is not a regular file", name);
+        return 0;
+    }
+    if (!line || sscanf(line + strlen(want), "%lld bytes, crc32 %8lx", &rec_size, &rec_crc) != 2) {
+        cr_why(why, n, "%s has no size and checksum in info.txt (an older curray wrote it)",
+                 name);
+        return 0;
+    }
+    if (st.st_size != rec_size) {
+        cr_why(why, n, "%s has %lld bytes, info.txt recorded %lld", name,
+                 (long long)st.st_size, rec_size);
+        return 0;
+    }
+    fd = open(path, O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    rc = fd < 0 ? -1 : cr_file_sum(fd, &size, &crc);
+    if (fd >= 0)
+        close(fd);
+    if (rc != 0) {
+        cr_why(why, n, "%s cannot be read: %s", name, strerror(errno));
+        return 0;
+    }
+    if (size != rec_size || crc != rec_crc) {
+        cr_why(why, n, "%s has CRC-32 %08lx, info.txt recorded %08lx", name, crc, rec_crc);
+        return 0;
+    }
+    return 1;
+}
+
+int cr_resume_verify(cr_resume *r, const char *dir, const char *types, cr_err *err)
+{
+    int i, j, dropped = 0;
+    r->why[0] = '\0';
+    if (!r->body)
+        return 0;
+    for (i = 0; i < r->n_records; i++) {
+        int k = r->order[i], ok = 1;
+        char why[sizeof r->why];
+        for (const char *t = types; ok == 1 && *t; t++)
+            ok = cr_frame_file_matches(r->body[k], dir, *t, k, why, sizeof why);
+        if (ok < 0)
+            return cr_err_set(err, "--resume: %s; move it away, then run again", why);
+        if (ok)
+            continue;
+        if (dropped++ == 0)
+            cr_why(r->why, sizeof r->why, "frame %d: %s", k, why);
+        free(r->body[k]);
+        r->body[k] = NULL;
+    }
+    /* the records left, in their order */
     for (i = j = 0; i < r->n_records; i++)
-        if (r->order[i] != k)
+        if (r->body[r->order[i]])
             r->order[j++] = r->order[i];
     r->n_records = j;
+    return dropped;
 }
 
 void cr_resume_free(cr_resume *r)

@@ -10,7 +10,9 @@
  *   frame count, output types, video settings, CPU or CUDA). info.txt
  *   carries it; --resume refuses a folder whose hash differs.
  * - Resume: the records of the frames an earlier run finished, read back
- *   from its info.txt (info.h), so that a resumed run can keep them. */
+ *   from its info.txt (info.h), so that a resumed run can keep them. Each
+ *   record lists its files with their sizes and CRC-32s; a frame is kept
+ *   only when every file still matches. */
 #ifndef CR_CLI_RESUME_H
 #define CR_CLI_RESUME_H
 
@@ -23,9 +25,6 @@
 /* The file name of frame k's output of type t ("c_3.png"), or -1 when t
  * has no per-frame file (i, v). */
 int cr_frame_file_name(char t, int k, char *out, size_t n);
-
-/* Does dir/name exist (as anything)? */
-int cr_file_exists(const char *dir, const char *name);
 
 /* Scan dir for frame files this run will not overwrite (frames, types: the
  * run's). *text gets a one-line description, malloc'ed ("c_<k>.png for
@@ -52,6 +51,7 @@ typedef struct cr_resume {
     char **body;    /* body[k]: frame k's record without its "Finished" line,
                        or NULL when the file has none */
     char started[64]; /* the earlier run's "Started" time */
+    char why[512];    /* cr_resume_verify: what the first frame dropped did not match */
 } cr_resume;
 
 /* Read dir/info.txt and check that its run hash equals hash. Errors: no
@@ -59,8 +59,21 @@ typedef struct cr_resume {
  * configuration, size or options changed). */
 int cr_resume_load(cr_resume *r, const char *dir, const char *hash, int frames, cr_err *err);
 
-/* Drop frame k's record (its files are missing: it is rendered again). */
-void cr_resume_drop(cr_resume *r, int k);
+/* The lines that end frame k's record in info.txt, one per file of the
+ * frame's types (among "crdbf") in dir, each with its size and CRC-32:
+ * "  frame file             c_3.png 123456 bytes, crc32 0a1b2c3d\n". *text
+ * is malloc'ed (NULL when types is empty). Reads each file back: call it
+ * once the frame's files are all written. */
+int cr_frame_files_describe(const char *dir, int k, const char *types, char **text, cr_err *err);
+
+/* Check the files (types among "crdbf") of every kept frame against the
+ * size and CRC-32 in its record; drop the records of frames whose files do
+ * not match (missing, another size or checksum, a symbolic link, not a
+ * regular file, no size and checksum recorded): they are rendered again.
+ * Returns how many were dropped (r->why says what was wrong with the first),
+ * or -1 with err set when a frame's file name is taken by a folder. Linear
+ * in the records and the bytes of the kept files. */
+int cr_resume_verify(cr_resume *r, const char *dir, const char *types, cr_err *err);
 
 void cr_resume_free(cr_resume *r);
 

@@ -313,6 +313,8 @@ static void cr_info_frame(FILE *fp, int k, const cr_frame_stats *st)
     if (st->counts[CR_OUT_LIMIT] > 0)
         fprintf(fp, "  %-22s %lld rays: %s\n", "warning", st->counts[CR_OUT_LIMIT],
                 CR_INFO_LIMIT_ADVICE);
+    if (st->files)
+        fputs(st->files, fp);
 }
 
 /* The header: everything before the first frame record. */

@@ -40,6 +40,8 @@ typedef struct cr_frame_stats {
     double err_max;                       /* largest per-ray mean null error */
     long long counts[CR_OUT_COUNT_];      /* pixels per outcome */
     int frame;                            /* frame index k (set by the caller) */
+    const char *files;                    /* lines "  frame file ..." that end the frame's record
+                                             (cli/resume.h), or NULL; the caller's */
 } cr_frame_stats;
 
 void cr_frame_stats_compute(const cr_pixel *px, long long n, double seconds,

@@ -111,6 +111,98 @@ else
     bad "--resume with a missing file" "rc $RC"
 fi
 
+# --- files that do not match their records ---------------------------------
+# info.txt records each file's size and CRC-32; a kept frame's files must
+# match them, or the frame is rendered again (a truncated or empty file, a
+# symbolic link, a changed byte); a folder in a frame file's place is refused
+SMALL=(-s scene.yml -x 16 -y 12 -f 4 -t icrd -a)
+run "${SMALL[@]}" -o ref
+run "${SMALL[@]}" -o bad
+if [ $RC = 0 ] && grep -qE '^  frame file  +c_1\.png [0-9]+ bytes, crc32 [0-9a-f]{8}$' bad/info.txt &&
+   [ "$(grep -c '^  frame file ' bad/info.txt)" = 12 ]; then
+    ok "info.txt records every frame file's size and CRC-32"
+else
+    bad "file lines in info.txt" "rc $RC; $(grep '^  frame file ' bad/info.txt | head -3)"
+fi
+truncate -s 50 bad/c_1.png
+: >bad/d_2.csv
+cp bad/r_3.png r3.copy
+rm bad/r_3.png
+ln -s ../r3.copy bad/r_3.png
+run "${SMALL[@]}" -o bad --resume
+same=1
+for f in c_{0..3}.png r_{0..3}.png d_{0..3}.csv; do
+    { cmp -s "ref/$f" "bad/$f" && [ ! -L "bad/$f" ]; } || same=0
+done
+if [ $RC = 0 ] && has "warning: --resume: 3 finished frames are rendered again" &&
+   has "frame 1: c_1.png has 50 bytes, info.txt recorded" &&
+   has "resuming: 1 of 4 frames finished by the earlier run, 3 to render" && [ $same = 1 ]; then
+    ok "--resume renders again a truncated PNG, an empty CSV and a symbolic link"
+else
+    bad "--resume with damaged files" "rc $RC, same $same"
+fi
+# one byte changed, the size the same
+printf 'X' | dd of=bad/d_0.csv bs=1 seek=100 conv=notrunc 2>/dev/null
+run "${SMALL[@]}" -o bad --resume
+if [ $RC = 0 ] && has "1 finished frame is rendered again: its files no longer matches info.txt" &&
+   has "frame 0: d_0.csv has CRC-32" && cmp -s ref/d_0.csv bad/d_0.csv; then
+    ok "--resume renders again a file with a changed byte (same size)"
+else
+    bad "--resume with a changed byte" "rc $RC"
+fi
+rm bad/c_2.png
+mkdir bad/c_2.png
+cp bad/info.txt info.before
+run "${SMALL[@]}" -o bad --resume
+if [ $RC = 1 ] && has "--resume: bad/c_2.png is a folder, where frame 2's file belongs; move it away, then run again" &&
+   cmp -s info.before bad/info.txt && [ -d bad/c_2.png ]; then
+    ok "--resume refuses a folder in a frame file's place, and changes nothing"
+else
+    bad "--resume with a folder" "rc $RC"
+fi
+rmdir bad/c_2.png
+# records without sizes and checksums (an older curray) are not trusted
+run "${SMALL[@]}" -o old
+grep -v '^  frame file ' old/info.txt >old.txt && mv old.txt old/info.txt
+run "${SMALL[@]}" -o old --resume
+if [ $RC = 0 ] && has "4 finished frames are rendered again" && has "has no size and checksum in info.txt" &&
+   has "resuming: 0 of 4 frames" && [ "$(grep -c '^  frame file ' old/info.txt)" = 12 ]; then
+    ok "--resume renders again frames whose records have no checksum"
+else
+    bad "--resume of records without checksums" "rc $RC"
+fi
+
+# --- a resume of 100,000 frames takes seconds --------------------------------
+# (a scan of info.txt that is quadratic in its size took over 9 minutes). The
+# run hash is taken from the refusal of an info.txt with another hash; the
+# records are made with awk; -t i has no frame files to check. The limit,
+# 30 s, is far above a linear scan (well under a second) and far below a
+# quadratic one.
+N=100000
+BIG=(-s scene.yml -o big -x 2 -y 2 -f $N -t i -a)
+mkdir big
+printf 'curray\nRun\n  run hash               0000000000000000\n\n' >big/info.txt
+run "${BIG[@]}" --resume
+hash=$(printf '%s\n' "$OUT" | sed -n "s/.*this run's is \([0-9a-f]\{16\}\).*/\1/p")
+awk -v n=$N -v h="$hash" 'BEGIN {
+    printf "curray - relativistic raytracer, run summary\nStarted                  2026-01-01 00:00:00 +0000\n\nRun\n  run hash               %s\n\n", h
+    for (k = 0; k < n; k++)
+        printf "Frame %d\n  wall time              0.001 s\n  rays                   4\n  pixels                 horizon 0, disc 0, sphere 0, sky 4, error 0, limit 0\nFinished %d of %d frames%s\n\n", k, k + 1, n, k + 1 < n ? " (run incomplete)" : ""
+}' >big/info.txt
+t0=$(date +%s)
+OUT=$(timeout 30 "$CURRAY" "${BIG[@]}" --resume </dev/null 2>&1)
+RC=$?
+t1=$(date +%s)
+if [ $RC = 0 ] && has "resuming: $N of $N frames finished by the earlier run, 0 to render" &&
+   [ "$(grep -c '^Frame ' big/info.txt)" = $N ] &&
+   [ "$(tail -2 big/info.txt | head -1)" = "Finished $N of $N frames" ]; then
+    ok "--resume of $N frames in $((t1 - t0)) s (limit 30 s)"
+else
+    OUT=$(printf '%s\n' "$OUT" | tail -3)
+    bad "--resume of $N frames" "rc $RC (124: over 30 s) after $((t1 - t0)) s"
+fi
+rm -rf big
+
 # --- refusals ---------------------------------------------------------------
 sed 's/theta: 85 deg/theta: 80 deg/' scene.yml >changed.yml
 cp changed.yml scene2.yml
