@@ -2,10 +2,12 @@
 # for the browser explorer (web/), and its tests (tests/web).
 #
 # Toolchain: clang's wasm32-wasi target with wasi-libc (Debian: clang lld-14
-# wasi-libc libclang-rt-14-dev-wasm32). Emscripten (Debian: emscripten) gives
-# the same results but slower code and a JavaScript runtime the page does not
-# need (BENCHMARKS.md, "WebAssembly"). The module is a WASI reactor importing
-# only three WASI functions the page stubs (stdio it never calls).
+# wasi-libc libclang-rt-14-dev-wasm32). Emscripten 3.1.6 (Debian: emscripten,
+# with NODE_PATH=/usr/share/nodejs) builds the same source into the same image
+# but brings a JavaScript runtime the page does not need, and was no faster
+# (BENCHMARKS.md, "WebAssembly in the browser"). The module is a WASI reactor
+# importing only three WASI functions, which the page stubs (stdio it never
+# calls).
 #
 # Besides the core it compiles the command line's scene evaluation and pixel
 # maps (CURRAY_WASM_HOST_SOURCES: cr_scene_frame, cr_redshift_color, ...), so
@@ -54,7 +56,9 @@ endif()
 # the given sources (relative to the source folder) with the core's flags.
 function(cr_wasm_link)
   cmake_parse_arguments(W "REACTOR" "OUTPUT" "SOURCES" ${ARGN})
-  set(_flags --target=wasm32-wasi -O2 -std=c11 -D_POSIX_C_SOURCE=200809L
+  # -O3 -msimd128: bench/web.sh measured -O2 at 1.8x the native CPU time a
+  # ray, -O3 at 1.0-1.1x, -O3 with WebAssembly SIMD at 0.9-1.0x (BENCHMARKS.md)
+  set(_flags --target=wasm32-wasi -O3 -msimd128 -std=c11 -D_POSIX_C_SOURCE=200809L
              -DCURRAY_VERSION="${PROJECT_VERSION}" -Wall -Wextra
              -ffunction-sections -fdata-sections -Wl,--gc-sections
              -isystem ${CMAKE_BINARY_DIR}/wasm-include -I${PROJECT_SOURCE_DIR}/src)

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# WebAssembly against native: the per-ray cost of the web entry point's
+# tracing (bench/web_bench.c: cr_web_trace over every pixel, one thread),
+# built natively (gcc -O3, the Release flags) and for wasm32 with clang's
+# wasm32-wasi (-O2 as cmake/wasm.cmake builds the page's core, -O3, -O3
+# -msimd128) and with Emscripten (emcc -O3), the wasm run in Node (V8, the
+# engine of Chromium). Rounds interleave the variants; the table gives the
+# median over rounds x runs of the CPU time per ray (process CPU time: a
+# loaded machine inflates wall time, not this) and its ratio to native.
+# Usage: bench/web.sh [BUILD_DIR] [rounds] [W H]   (default build 3 320 180)
+# The browser figures (workers, preview, refinement, looking around) are
+# bench/web_page.py's.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build} rounds=${2:-3} W=${3:-320} H=${4:-180}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+src="bench/web_bench.c src/wasm/web.c src/input/scene.c src/base/error.c src/input/sysconfig.c src/output/output.c"
+host="src/input/yamlutil.c src/base/png_io.c src/output/info.c src/base/atomic.c src/base/fsutil.c"
+flags="-std=c11 -D_POSIX_C_SOURCE=200809L -DCURRAY_VERSION=\"bench\" -Isrc"
+wflags="$flags -ffunction-sections -fdata-sections -Wl,--gc-sections -isystem $build/wasm-include"
+# shellcheck disable=SC2086
+gcc -O3 -DNDEBUG $flags $src $host -lyaml -lpng -lm -o "$out/native"
+variants="native"
+for v in "O2:-O2" "O3:-O3" "O3-simd:-O3 -msimd128"; do
+  name=${v%%:*} opt=${v#*:}
+  # shellcheck disable=SC2086
+  clang --target=wasm32-wasi $opt $wflags $src -o "$out/wasi-$name.wasm" && variants="$variants wasi-$name"
+done
+if command -v emcc >/dev/null; then
+  # shellcheck disable=SC2086
+  NODE_PATH=/usr/share/nodejs emcc -O3 $wflags $src -o "$out/emcc-O3.js" 2>"$out/emcc.err" &&
+    variants="$variants emcc-O3" || echo "emcc failed: $(head -1 "$out/emcc.err")"
+fi
+run() {
+  case $1 in
+    native) "$out/native" "$2" "$W" "$H" 3 ;;
+    wasi-*) node --no-warnings tests/web/run_wasi.mjs "$out/$1.wasm" "$2" "$W" "$H" 3 ;;
+    emcc-*) node --no-experimental-fetch "$out/$1.js" "$2" "$W" "$H" 3 ;;
+  esac
+}
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "node $(node --version), $(clang --version | head -1), $(gcc --version | head -1)"
+for scene in demo kerr; do
+  for r in $(seq "$rounds"); do
+    for v in $variants; do
+      run "$v" "$scene" | awk -v v="$v" '/^run/ {print v, $4, $6, $8}' >> "$out/$scene.txt"
+    done
+  done
+  echo
+  echo "scene $scene ${W}x${H}, $rounds rounds x 3 runs; ns per ray (median), ratio to native (CPU)"
+  printf '%-12s %10s %10s %8s\n' variant wall cpu ratio
+  for v in $variants; do
+    awk -v v="$v" '$1 == v {print $2, $3, $4}' "$out/$scene.txt" | sort -n -k2 |
+      awk '{w[NR] = $1; c[NR] = $2} END {m = int((NR + 1) / 2); print w[m], c[m]}' > "$out/m"
+    read -r wall cpu < "$out/m"
+    [ "$v" = native ] && ncpu=$cpu nwall=$wall
+    case $v in
+      # Emscripten's process CPU clock is the wall clock: compare wall times
+      emcc-*) printf '%-12s %10.0f %10s %8.2f (wall / native wall)\n' "$v" "$wall" - \
+                "$(echo "$wall / $nwall" | bc -l)" ;;
+      *) printf '%-12s %10.0f %10.0f %8.2f\n' "$v" "$wall" "$cpu" "$(echo "$cpu / $ncpu" | bc -l)" ;;
+    esac
+  done
+  # the same image from every build (outcomes and colours summed)
+  if [ "$(awk '{print $4}' "$out/$scene.txt" | sort -u | wc -l)" != 1 ]; then
+    echo "the builds traced different images"; exit 1
+  fi
+done
+echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
