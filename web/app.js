@@ -214,6 +214,7 @@ class CrApp {
     this.skyRenderer = null;
     this.skyKey = '';
     this.renderDone = Promise.resolve('');
+    this.skyDone = Promise.resolve('');
     this.resolveRender = null;
     this.lastTimes = null;
     this.bind();
@@ -358,6 +359,7 @@ class CrApp {
   // Evaluate the scene on this thread (the message, the probe) and start
   // the workers; false when the core refuses the scene.
   changed() {
+    this.changeT0 = performance.now();
     this.relevance();
     this.el('yaml').value = this.yaml();
     this.el('cmd').textContent = this.cmd() + (this.scene.skymap.image ? '   (with ' + this.scene.skymap.image + ' next to ' + this.scene.name + ')' : '');
@@ -393,7 +395,12 @@ class CrApp {
     this.skyModel = s;
     if (!this.skyRenderer)
       this.skyRenderer = new CrRenderer(this.module, this.nWorkers, (r, pix, st) => this.paintSky(r, pix, st),
-                                        (r, msg) => { this.el('look-status').textContent = msg || 'sky traced in ' + Math.round(r.passTimes[r.passTimes.length - 1]) + ' ms'; });
+                                        (r, msg) => {
+                                          this.el('look-status').textContent = msg || 'sky traced in ' + Math.round(r.passTimes[r.passTimes.length - 1]) + ' ms';
+                                          if (this.resolveSky) this.resolveSky(msg || '');
+                                        });
+    // resolves when this sky is traced (test and bench hook)
+    this.skyDone = new Promise((res) => { this.resolveSky = res; });
     const [SW, SH] = CR_SKY_SIZE;
     crSceneApply(this.lookSky, s, this.sky);
     const msg = this.lookSky.frame(SW, SH);
@@ -477,16 +484,17 @@ class CrApp {
   dragStart(e) {
     if (!this.el('look').checked || this.scene.observer.r === Infinity) return;
     this.dragging = { x: e.clientX, y: e.clientY, yaw: this.scene.observer.yaw, pitch: this.scene.observer.pitch };
-    this.canvas.setPointerCapture(e.pointerId);
+    try { this.canvas.setPointerCapture(e.pointerId); } catch (err) { /* a synthetic pointer */ }
   }
   dragMove(e) {
     if (!this.dragging) return;
+    this.lookMs = null;
     const o = this.scene.observer, fov = o.projection === 'equirectangular' ? 360 : o.hfov;
     const k = fov / this.canvas.getBoundingClientRect().width;
     o.yaw = Math.round(100 * (this.dragging.yaw + (e.clientX - this.dragging.x) * k)) / 100;
     o.pitch = Math.round(100 * Math.max(-90, Math.min(90, this.dragging.pitch + (e.clientY - this.dragging.y) * k))) / 100;
     this.show();
-    this.look();
+    this.lookMs = this.look();
   }
   // the view reprojected from the sky image: no ray traced
   look() {

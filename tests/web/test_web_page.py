@@ -145,6 +145,9 @@ skymap:
 horizon_color: [0, 0, 0]
 """
 
+# looking around: the reprojected view's agreement with the traced one
+LOOK_AGREE = 0.95
+
 # cr_outcome's values, as d_<k>.csv names them
 OUTCOMES = ["none", "horizon", "disc", "sphere", "sky", "error", "limit", "outside"]
 
@@ -280,6 +283,51 @@ def compare(name, d, curray, scenes_dir, out_dir):
     return p
 
 
+def look_around(d):
+    """Drag on the picture with looking around on: the view is reprojected
+    from the equirectangular sky (no ray traced), then traced when the
+    pointer is let go. The reprojected and the traced view of the same yaw
+    agree but for the edges that nearest-pixel sampling of the 1024 x 512 sky
+    moves: at least LOOK_AGREE of the pixels within 16 levels."""
+    d.execute_script("window.crApp.scene = crDefaultScene(); window.crApp.sky = null;"
+                     "window.crApp.show(); document.getElementById('look').checked = true;"
+                     "window.crApp.changed();")
+    wait_done(d, "look-around view")
+    msg = d.execute_async_script("const done = arguments[arguments.length - 1];"
+                                 "window.crApp.skyDone.then(done);")
+    if msg:
+        fail("looking around: the sky render says %r" % msg)
+    r = d.execute_script(
+        "const app = window.crApp, c = app.canvas, b = c.getBoundingClientRect();"
+        "const ev = (t, x) => new PointerEvent(t, {clientX: b.left + x, clientY: b.top + 100,"
+        "  pointerId: 1, bubbles: true});"
+        "c.dispatchEvent(ev('pointerdown', 100));"
+        "window.dispatchEvent(ev('pointermove', 100 + 20 * b.width / app.scene.observer.hfov));"
+        "const img = app.lookImage.data.slice();"
+        "const yaw = app.scene.observer.yaw, ms = app.lookMs;"
+        "window.dispatchEvent(ev('pointerup', 0));"
+        "let s = ''; for (let i = 0; i < img.length; i += 8192)"
+        "  s += String.fromCharCode.apply(null, img.subarray(i, i + 8192));"
+        "return [yaw, ms, btoa(s)];")
+    yaw, ms, look = r[0], r[1], base64.b64decode(r[2])
+    if abs(yaw - 20) > 0.5 or ms is None or ms < 0:
+        fail("looking around: the drag gave yaw %r, reprojection %r ms" % (yaw, ms))
+    if wait_done(d, "view after the drag"):
+        fail("looking around: the view after the drag did not render")
+    y = d.execute_script("return window.crApp.yaml();")
+    if "  yaw: 20 deg" not in y.split("\n"):
+        fail("looking around: the YAML has no yaw: 20 deg line:\n" + y)
+    w, h, outcome, rgb, level = page_pixels(d)
+    agree = sum(1 for k in range(w * h)
+                if max(abs(look[4 * k + c] - rgb[9 * k + c]) for c in range(3)) <= 16)
+    frac = agree / float(w * h)
+    print("looking around: drag to yaw %.2f deg, reprojected in %.1f ms; %.4f of the pixels "
+          "within 16 levels of the traced view" % (yaw, ms, frac))
+    if frac < LOOK_AGREE:
+        fail("looking around: only %.4f of the reprojected pixels match the traced view" % frac)
+    d.execute_script("document.getElementById('look').checked = false;")
+
+
 def set_control(d, sel, value):
     ok = d.execute_script(
         "const c = document.querySelector(arguments[0]); if (!c) return false;"
@@ -327,6 +375,7 @@ def main():
                 if msg:
                     fail("%s: the page says %r" % (name, msg))
             compare(name, d, curray, scenes_dir, out_dir)
+        look_around(d)
         # controls, from the demo scene again
         d.execute_script("window.crApp.scene = crDefaultScene(); window.crApp.sky = null;"
                          "window.crApp.show(); window.crApp.changed();")
