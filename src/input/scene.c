@@ -14,6 +14,7 @@
 
 #include "../core/trace.h"
 #include "../base/png_io.h"
+#include "names.h"
 #include "sysconfig.h"
 #include "yamlutil.h"
 
@@ -218,39 +219,41 @@ static int get_inf(cr_yaml *y, yaml_node_t *node, const char *path, const char *
     return 0;
 }
 
-/* One of names[0..n-1] (a string at path) into *out; what names the kind. */
+/* A word of kind (a string at path) into *out; what names the kind, and
+ * expected, a printf format taking the list of words, says what is
+ * expected. */
 static int get_choice(cr_yaml *y, yaml_node_t *node, const char *path, const char *what,
-                      const char *const *names, int n, const char *expected, int *out,
-                      cr_err *err)
+                      cr_names kind, const char *expected, int *out, cr_err *err)
 {
     const char *v;
-    char got[96];
+    char got[96], want[256];
     int i;
     if (cr_yaml_string(y, node, path, &v, err))
         return -1;
-    for (i = 0; i < n; i++)
-        if (strcmp(v, names[i]) == 0) {
-            *out = i;
-            return 0;
-        }
+    i = cr_name_parse(kind, v, strlen(v));
+    if (i >= 0) {
+        *out = i;
+        return 0;
+    }
     cr_yaml_describe(node, got, sizeof got);
-    return cr_yaml_fail(y, node, path, err, "unknown %s %s (expected %s)", what, got, expected);
+    snprintf(want, sizeof want, expected, cr_names_list(kind));
+    return cr_yaml_fail(y, node, path, err, "unknown %s %s (expected %s)", what, got, want);
 }
 
 /* observer.motion: static | zamo | orbit | infall, or [v_r, v_theta, v_phi]
  * (each a number or an animation [linear, start, end]). */
 static int parse_motion(cr_yaml *y, yaml_node_t *node, cr_scene *s, cr_err *err)
 {
-    static const char *const names[] = {"static", "zamo", "orbit", "infall"};
     const char *path = "observer.motion";
+    char what[256];
     if (node->type == YAML_SEQUENCE_NODE) {
         yaml_node_t *it[3];
         char sub[CR_YAML_PATH];
         int i;
-        if (cr_yaml_list(y, node, path, 3,
-                         "a motion (static, zamo, orbit, infall) or a 3-velocity "
-                         "[v_r, v_theta, v_phi] measured by the ZAMO",
-                         it, NULL, err))
+        snprintf(what, sizeof what,
+                 "a motion (%s) or a 3-velocity [v_r, v_theta, v_phi] measured by the ZAMO",
+                 cr_names_list(CR_NAMES_MOTION));
+        if (cr_yaml_list(y, node, path, 3, what, it, NULL, err))
             return -1;
         for (i = 0; i < 3; i++) {
             cr_yaml_path_index(sub, sizeof sub, path, i);
@@ -260,9 +263,8 @@ static int parse_motion(cr_yaml *y, yaml_node_t *node, cr_scene *s, cr_err *err)
         s->obs_motion = CR_MOTION_VELOCITY;
         return 0;
     }
-    return get_choice(y, node, path, "motion", names, 4,
-                      "one of: static, zamo, orbit, infall, or a 3-velocity "
-                      "[v_r, v_theta, v_phi] measured by the ZAMO",
+    return get_choice(y, node, path, "motion", CR_NAMES_MOTION,
+                      "one of: %s, or a 3-velocity [v_r, v_theta, v_phi] measured by the ZAMO",
                       &s->obs_motion, err);
 }
 
@@ -274,7 +276,6 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
                           OPT("pitch"),   OPT("yaw"),     OPT("hfov"),       OPT("vfov"),
                           OPT("hextent"), OPT("vextent"), OPT("motion"),     OPT("projection"),
                           OPT("retrograde")};
-    static const char *const proj_names[] = {"rectilinear", "fisheye", "equirectangular"};
     const char *p = "observer";
     yaml_mark_t where;
     int inf, i;
@@ -285,8 +286,8 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
     where = key ? key->start_mark : map->start_mark;
     if ((f[MOTION].value && parse_motion(y, f[MOTION].value, s, err)) ||
         (f[PROJ].value &&
-         get_choice(y, f[PROJ].value, "observer.projection", "projection", proj_names, 3,
-                    "one of: rectilinear, fisheye, equirectangular", &s->obs_projection, err)) ||
+         get_choice(y, f[PROJ].value, "observer.projection", "projection", CR_NAMES_PROJECTION,
+                    "one of: %s", &s->obs_projection, err)) ||
         (f[RETRO].value && cr_yaml_bool(y, f[RETRO].value, "observer.retrograde",
                                         &s->obs_retrograde, err)))
         return -1;
@@ -301,7 +302,7 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
         return cr_yaml_fail(y, f[PROJ].value, "observer.projection", err,
                             "the observer at infinity (r: inf) sees a flat image plane "
                             "(rectilinear); give observer.r a finite value for a %s view",
-                            proj_names[s->obs_projection]);
+                            cr_name(CR_NAMES_PROJECTION, s->obs_projection));
     /* which keys apply depends on r: inf (hextent, vextent) or finite (hfov, vfov) */
     if (inf) {
         for (i = HFOV; i <= VFOV; i++)
@@ -407,22 +408,14 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
     if (cr_yaml_fields(y, map, p, key, f, N, err))
         return -1;
     where = key ? key->start_mark : map->start_mark;
+    s->disc_model = CR_DISC_CHESSBOARD;
     if (f[MODEL].value) {
-        const char *m;
         cr_yaml_path_key(sub, sizeof sub, p, "model");
-        if (cr_yaml_string(y, f[MODEL].value, sub, &m, err))
+        if (get_choice(y, f[MODEL].value, sub, "disc model", CR_NAMES_DISC_MODEL, "one of: %s",
+                       &s->disc_model, err))
             return -1;
-        if (strcmp(m, "keplerian") == 0)
-            kep = 1;
-        else if (strcmp(m, "chessboard") != 0) {
-            char got[96];
-            cr_yaml_describe(f[MODEL].value, got, sizeof got);
-            return cr_yaml_fail(y, f[MODEL].value, sub, err,
-                                "unknown disc model %s (expected one of: chessboard, keplerian)",
-                                got);
-        }
     }
-    s->disc_model = kep ? CR_DISC_KEPLERIAN : CR_DISC_CHESSBOARD;
+    kep = s->disc_model == CR_DISC_KEPLERIAN;
     s->disc_retrograde = 0;
     s->disc_temperature = 1e4;
     s->disc_has_r_in = 1;
@@ -462,18 +455,10 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
                             &s->disc_mdot_edd, err))
             return -1;
         if (f[INSIDE].value) {
-            const char *v;
-            char got[96];
             cr_yaml_path_key(sub, sizeof sub, p, "inside_isco");
-            if (cr_yaml_string(y, f[INSIDE].value, sub, &v, err))
+            if (get_choice(y, f[INSIDE].value, sub, "value", CR_NAMES_INSIDE_ISCO, "one of: %s",
+                           &s->disc_plunge, err))
                 return -1;
-            if (strcmp(v, "plunging") == 0)
-                s->disc_plunge = 1;
-            else if (strcmp(v, "nothing") != 0) {
-                cr_yaml_describe(f[INSIDE].value, got, sizeof got);
-                return cr_yaml_fail(y, f[INSIDE].value, sub, err,
-                                    "unknown value %s (expected one of: nothing, plunging)", got);
-            }
         }
         cr_yaml_path_key(sub, sizeof sub, p, "radius");
         if (f[RADIUS].value->type != YAML_SEQUENCE_NODE) {

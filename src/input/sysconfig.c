@@ -16,48 +16,6 @@
 #define OPT(k) {k, 0, 0, NULL, NULL, 0}
 #define REQ(k) {k, 1, 0, NULL, NULL, 0}
 
-/* Indexed by cr_integrator. */
-static const char *const integrator_names[CR_INTEG_COUNT_] = {"mino", "rk4"};
-
-const char *cr_integrator_name(int integrator)
-{
-    if (integrator < 0 || integrator >= CR_INTEG_COUNT_)
-        return "unknown";
-    return integrator_names[integrator];
-}
-
-const char *cr_integrator_names(void)
-{
-    return "mino, rk4";
-}
-
-static char ascii_lower(char c)
-{
-    return (c >= 'A' && c <= 'Z') ? (char)(c - 'A' + 'a') : c;
-}
-
-int cr_integrator_parse(const char *text, size_t len)
-{
-    int i;
-    while (len > 0 && (text[0] == ' ' || text[0] == '\t')) {
-        text++;
-        len--;
-    }
-    while (len > 0 && (text[len - 1] == ' ' || text[len - 1] == '\t'))
-        len--;
-    for (i = 0; i < CR_INTEG_COUNT_; i++) {
-        const char *w = integrator_names[i];
-        size_t k;
-        if (strlen(w) != len)
-            continue;
-        for (k = 0; k < len && ascii_lower(text[k]) == w[k]; k++)
-            ;
-        if (k == len)
-            return i;
-    }
-    return -1;
-}
-
 void cr_sysconfig_defaults(cr_sysconfig *c)
 {
     memset(c, 0, sizeof *c);

@@ -14,6 +14,7 @@
 
 #include "../base/error.h"
 #include "../base/limits.h" /* CR_MAX_GPUS, CR_SYSCONFIG_MAX_THREADS */
+#include "names.h"          /* cr_integrator_name, ... */
 
 typedef struct cr_sysconfig {
     /* gpus: gpu_enabled[i] for device i; devices not listed are disabled,
@@ -34,18 +35,6 @@ typedef struct cr_sysconfig {
     int video_keep_frames;  /* video.keep_frames: keep the PNG frames a video
                                was made from (default true) */
 } cr_sysconfig;
-
-/* The configuration name of an integrator ("mino", "rk4"), the same word
- * that raytracer.integrator takes and info.txt shows; "unknown" for a value
- * outside cr_integrator. */
-const char *cr_integrator_name(int integrator);
-
-/* The cr_integrator named by text[0..len) (any letter case, surrounding
- * blanks ignored), or -1 when it names none. */
-int cr_integrator_parse(const char *text, size_t len);
-
-/* The valid names, "mino, rk4", for messages. */
-const char *cr_integrator_names(void);
 
 /* Built-in defaults. */
 void cr_sysconfig_defaults(cr_sysconfig *c);

@@ -15,17 +15,6 @@
 #define CURRAY_VERSION "unknown"
 #endif
 
-static const char *const cr_outcome_names[CR_OUT_COUNT_] = {
-    "none", "horizon", "disc", "sphere", "sky", "error", "limit", "outside",
-};
-
-const char *cr_outcome_name(int outcome)
-{
-    if (outcome < 0 || outcome >= CR_OUT_COUNT_)
-        return "unknown";
-    return cr_outcome_names[outcome];
-}
-
 void cr_frame_stats_compute(const cr_pixel *px, long long n, double seconds,
                             cr_frame_stats *st)
 {
@@ -177,8 +166,7 @@ static void cr_info_scene(FILE *fp, const cr_scene *s)
         cr_put_anim(fp, "velocity v_theta", s->obs_v[1], "c");
         cr_put_anim(fp, "velocity v_phi", s->obs_v[2], "c");
     } else if (s->obs_motion != CR_MOTION_STATIC) {
-        static const char *const names[] = {"static", "zamo", "orbit", "infall"};
-        fprintf(fp, "  %-22s %s%s\n", "motion", names[s->obs_motion],
+        fprintf(fp, "  %-22s %s%s\n", "motion", cr_name(CR_NAMES_MOTION, s->obs_motion),
                 s->obs_motion == CR_MOTION_ORBIT
                     ? (s->obs_retrograde ? " (retrograde)" : " (prograde)")
                     : "");

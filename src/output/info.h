@@ -19,6 +19,7 @@
 #include "../core/defs.h"
 #include "../base/atomic.h"
 #include "../base/error.h"
+#include "../input/names.h" /* cr_outcome_name */
 #include "../input/scene.h"
 #include "../input/sysconfig.h"
 
@@ -102,8 +103,5 @@ int cr_info_resume(cr_info *info, char *const *bodies, const int *order, int n, 
 int cr_info_write(const char *dir, const cr_run_info *run, const cr_scene *scene,
                   const cr_sysconfig *cfg, const cr_frame_stats *stats, int n_done,
                   cr_err *err);
-
-/* Names of outcomes as used in CSV and info.txt. */
-const char *cr_outcome_name(int outcome);
 
 #endif
