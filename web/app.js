@@ -59,6 +59,7 @@ class CrRenderer {
       '\ncrWorkerMain();\n';
     const url = URL.createObjectURL(new Blob([src], { type: 'text/javascript' }));
     this.workers = [];
+    this.skySent = new Map();
     this.ready = Promise.all(Array.from({ length: n }, () => new Promise((res, rej) => {
       const w = new Worker(url);
       w.onerror = (e) => rej(new Error('worker: ' + e.message));
@@ -85,7 +86,12 @@ class CrRenderer {
     this.framesLeft = this.workers.length;
     this.t0 = performance.now();
     this.passTimes = [];
-    for (const w of this.workers) w.postMessage({ type: 'scene', gen, scene, sky, width, height });
+    for (const w of this.workers) {
+      // the sky image travels only when it changed (undefined: keep it)
+      const same = this.skySent.get(w) === sky;
+      this.skySent.set(w, sky);
+      w.postMessage({ type: 'scene', gen, scene, sky: same ? undefined : sky, width, height });
+    }
     return gen;
   }
 
@@ -213,6 +219,7 @@ class CrApp {
     this.renderer = new CrRenderer(module, n, (r, pix, s) => this.paint(r, pix, s), (r, msg) => this.done(r, msg));
     this.skyRenderer = null;
     this.skyKey = '';
+    this.probeSky = this.lookViewSky = undefined; // the sky image each core holds
     this.renderDone = Promise.resolve('');
     this.skyDone = Promise.resolve('');
     this.resolveRender = null;
@@ -368,7 +375,9 @@ class CrApp {
     if (this.resolveRender) this.resolveRender('superseded');
     this.renderDone = new Promise((res) => { this.resolveRender = res; });
     try {
-      crSceneApply(this.probeScene, this.scene, this.sky);
+      // the sky image is copied into the core only when it changed
+      crSceneApply(this.probeScene, this.scene, this.sky === this.probeSky ? undefined : this.sky);
+      this.probeSky = this.sky;
       msg = this.probeScene.frame(W, H);
     } catch (e) { msg = String(e.message || e); }
     this.error(msg);
@@ -378,6 +387,7 @@ class CrApp {
     this.t0 = performance.now();
     this.renderer.start(this.scene, this.sky, W, H, CR_STEPS);
     if (this.el('look').checked) this.startSky();
+    else this.el('look-status').textContent = '';
     return true;
   }
 
@@ -501,7 +511,8 @@ class CrApp {
     const [W, H] = this.size;
     if (!this.skyRgba) return -1;
     const t0 = performance.now();
-    crSceneApply(this.lookView, this.scene, this.sky);
+    crSceneApply(this.lookView, this.scene, this.sky === this.lookViewSky ? undefined : this.sky);
+    this.lookViewSky = this.sky;
     if (this.lookView.frame(W, H)) return -1;
     const [SW, SH] = CR_SKY_SIZE;
     if (this.lookSky.width() !== SW) return -1;

@@ -139,12 +139,11 @@ function crSceneApply(core, s, sky) {
     core.set('sphere.n_lon', p.resolution[1]);
     for (const k of ['r', 'theta', 'phi', 'roll', 'pitch', 'yaw', 'radius']) core.set('sphere.' + k, p[k]);
   }
-  if (sky) {
-    core.sky(sky.width, sky.height, sky.rgb);
-    core.set('skymap.boundary', s.skymap.boundary);
-  } else {
-    core.sky(0, 0, null);
-  }
+  // sky: {width, height, rgb}; null: no sky image; undefined: keep the one
+  // set before (a worker is sent its image only when it changes)
+  if (sky) core.sky(sky.width, sky.height, sky.rgb);
+  else if (sky === null) core.sky(0, 0, null);
+  if (sky !== null) core.set('skymap.boundary', s.skymap.boundary);
   core.set('sky_color', rgbNum(s.sky_color));
   core.set('horizon_color', rgbNum(s.horizon_color));
   core.set('error_color', rgbNum(s.error_color));

@@ -29,14 +29,22 @@ static double deg_to_rad(double v)
     return v / 180.0 * CR_PI;
 }
 
+/* An integer key: truncated; -1 (which the evaluation refuses with its
+ * message, as every count must be positive) for NaN or out of range. */
+static int int_of(double v)
+{
+    return v > -2e9 && v < 2e9 ? (int)v : -1;
+}
+
 static void anim_set(cr_anim *a, double v)
 {
     a->a = a->b = v;
 }
 
+/* A colour 0xRRGGBB; black for anything else (NaN, out of range). */
 static cr_rgb rgb_of(double v)
 {
-    long c = (long)v;
+    long c = v >= 0.0 && v <= 16777215.0 ? (long)v : 0;
     return cr_rgb_make((int)((c >> 16) & 255), (int)((c >> 8) & 255), (int)(c & 255));
 }
 
@@ -105,9 +113,9 @@ static int set_sphere(cr_web *w, const char *k, double v)
     if (!strcmp(k, "color"))
         sp->color = rgb_of(v);
     else if (!strcmp(k, "n_lat"))
-        sp->n_lat = (int)v;
+        sp->n_lat = int_of(v);
     else if (!strcmp(k, "n_lon"))
-        sp->n_lon = (int)v;
+        sp->n_lon = int_of(v);
     else if (!strcmp(k, "r"))
         anim_set(&sp->r, v);
     else if (!strcmp(k, "theta"))
@@ -177,9 +185,9 @@ static int set_accretion(cr_web *w, const char *k, double v)
         s->disc_color2 = rgb_of(isnan(v) ? 0.0 : v);
     }
     else if (!strcmp(k, "n_radial"))
-        s->disc_n_radial = (int)v;
+        s->disc_n_radial = int_of(v);
     else if (!strcmp(k, "n_sectors"))
-        s->disc_n_sectors = (int)v;
+        s->disc_n_sectors = int_of(v);
     else if (!strcmp(k, "yaw"))
         anim_set(&s->disc_yaw, deg_to_rad(v));
     else if (!strcmp(k, "r_in")) {
@@ -209,11 +217,11 @@ static int set_raytracer(cr_trace_settings *ts, const char *k, double v)
     else if (!strcmp(k, "horizon_epsilon"))
         ts->horizon_epsilon = v;
     else if (!strcmp(k, "max_steps"))
-        ts->max_steps = (long)v;
+        ts->max_steps = v > -9e18 && v < 9e18 ? (long)v : -1;
     else if (!strcmp(k, "max_turns"))
         ts->max_turns = v;
     else if (!strcmp(k, "samples"))
-        ts->samples = (int)v;
+        ts->samples = int_of(v);
     else
         return -1;
     return 0;

@@ -419,6 +419,7 @@ def main():
         if "disc" not in readout and "sky" not in readout and "horizon" not in readout:
             fail("cursor readout shows %r" % readout)
         print("cursor readout: " + readout)
+        d.set_window_size(1280, 820)
         d.save_screenshot(os.path.join(out_dir, "screenshot.png"))
         errs = console_errors(d)
         if errs:
