@@ -33,6 +33,15 @@ static void cr_interrupt_handler(int sig)
     errno = saved;
 }
 
+/* After cr_interrupt_remove of a run that is stopping: a further signal
+ * ends the process at once with the status of an interrupted run (nothing
+ * is being written by then but info.txt's last fsync). */
+static void cr_interrupt_late_handler(int sig)
+{
+    (void)sig;
+    _exit(130);
+}
+
 static double cr_interrupt_now(void)
 {
     struct timespec ts;
@@ -154,7 +163,7 @@ void cr_interrupt_remove(cr_interrupt *in)
     if (!in->stopper_running)
         return;
     memset(&sa, 0, sizeof sa);
-    sa.sa_handler = SIG_DFL;
+    sa.sa_handler = atomic_load(&in->count) > 0 ? cr_interrupt_late_handler : SIG_DFL;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
@@ -216,4 +225,18 @@ void cr_interrupt_frame_end(cr_interrupt *in, int slot)
     in->slot[slot].n_kept = 0;
     in->slot[slot].writing[0] = '\0';
     pthread_mutex_unlock(&in->lock);
+}
+
+int cr_interrupt_video_failed(cr_interrupt *in, cr_log *log, const char *msg, long frames,
+                              const char *dir)
+{
+    if (!cr_interrupt_requested(in)) {
+        cr_log_error(log, "curray: %s", msg);
+        return 1;
+    }
+    cr_log_error(log,
+                 "curray: interrupted while making the videos; all %ld frames are finished "
+                 "and kept in %s; the same command with --resume makes the videos",
+                 frames, dir);
+    return 130;
 }

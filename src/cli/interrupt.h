@@ -10,6 +10,7 @@
  * cr_interrupt_install, woken by the handler through a semaphore) closes the
  * output gate so that no new file is started, removes the temporary files
  * of the writes in progress (".<name>.tmp.<pid>.*" in the output folder,
+ * the video being encoded among them,
  * fsutil.h) and the complete files of frames not yet finished, and ends the
  * process with _exit(130) without waiting for the render or the writes.
  * Writers announce each output file (cr_interrupt_file_begin/end), so the
@@ -60,9 +61,17 @@ typedef struct cr_interrupt {
  * 0, or -1 with err set (nothing installed). */
 int cr_interrupt_install(cr_interrupt *in, const char *dir, cr_log *log, cr_err *err);
 
-/* Restore the default actions, end the stopper thread, free what install
- * made. The count stays readable. */
+/* Restore the default actions (when a signal has come: an action that ends
+ * the process with status 130, so that one more signal while the stopped
+ * run exits is not a death by the signal), end the stopper thread, free what
+ * install made. The count stays readable. */
 void cr_interrupt_remove(cr_interrupt *in);
+
+/* The videos (made after the last frame, with the handlers still installed)
+ * failed with msg: log why and return the exit status, 130 when a signal
+ * stopped them (every frame is kept; --resume makes the videos), else 1. */
+int cr_interrupt_video_failed(cr_interrupt *in, cr_log *log, const char *msg, long frames,
+                              const char *dir);
 
 /* 1 once a signal has come (relaxed atomic load; any thread). */
 int cr_interrupt_requested(cr_interrupt *in);

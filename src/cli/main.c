@@ -1003,7 +1003,7 @@ static int cr_mpi_ready(cr_run *run, int prepared, int *rc)
 }
 
 /* Render every frame with the chosen workers; Ctrl-C handling is installed
- * for the time of the render. */
+ * from the start of the render to the end of the videos. */
 static int cr_render_frames(cr_run *run, cr_err *err)
 {
     int k, started = 0;
@@ -1041,9 +1041,8 @@ static int cr_render_frames(cr_run *run, cr_err *err)
         for (k = 0; k < started; k++)
             pthread_join(run->workers[k].tid, NULL);
     }
-    cr_interrupt_remove(&run->intr);
     pthread_mutex_destroy(&run->lock);
-    return 0;
+    return 0; /* Ctrl-C handling stays for the videos; main removes it */
 }
 
 /* After every frame is finished: c.mp4 from the colour frames and, when
@@ -1060,8 +1059,12 @@ static int cr_make_videos(cr_run *run, cr_err *err)
             break;
         snprintf(name, sizeof name, "%s.mp4", prefix[i]);
         t0 = cr_now();
-        if (cr_video_from_pngs(run->cli.output_dir, prefix[i], n, run->cfg.video_fps, name,
-                               &padded, err))
+        if (cr_interrupt_file_begin(&run->intr, 0, name)) /* a second Ctrl-C */
+            return cr_err_set(err, "interrupted");
+        k = cr_video_from_pngs(run->cli.output_dir, prefix[i], n, run->cfg.video_fps, name,
+                               &padded, &run->intr.count, err);
+        cr_interrupt_file_end(&run->intr, 0, 0, 0);
+        if (k)
             return -1;
         cr_log_info(&run->log, "video %s: %d frame%s at %d fps, H.264 in %.2f s%s", name, n,
                     n > 1 ? "s" : "", run->cfg.video_fps, cr_now() - t0,
@@ -1301,12 +1304,12 @@ int main(int argc, char **argv)
             rc = CR_EXIT_ERROR;
         } else {
             rc = cr_report(&run);
-            if (rc == CR_EXIT_OK && cr_has_type(&run, 'v') && cr_make_videos(&run, &err)) {
-                cr_log_error(&run.log, "curray: %s", err.msg);
-                rc = CR_EXIT_ERROR;
-            }
+            if (rc == CR_EXIT_OK && cr_has_type(&run, 'v') && cr_make_videos(&run, &err))
+                rc = cr_interrupt_video_failed(&run.intr, &run.log, err.msg, run.cli.frames,
+                                               run.cli.output_dir);
         }
     }
+    cr_interrupt_remove(&run.intr);
     if (cr_info_end(&run.infotxt, &err) && run.log_open) { /* fsync: the records are on disk */
         cr_log_error(&run.log, "curray: %s", err.msg);
         rc = CR_EXIT_ERROR;

@@ -9,9 +9,9 @@ int cr_video_available(void)
 }
 
 int cr_video_from_pngs(const char *dir, const char *prefix, int n, int fps, const char *name,
-                       int *padded, cr_err *err)
+                       int *padded, atomic_int *cancel, cr_err *err)
 {
-    (void)dir, (void)prefix, (void)n, (void)fps, (void)name, (void)padded;
+    (void)dir, (void)prefix, (void)n, (void)fps, (void)name, (void)padded, (void)cancel;
     return cr_err_set(err, "%s", CR_VIDEO_UNAVAILABLE);
 }
 
@@ -241,7 +241,7 @@ static int cr_video_close(cr_video *v, int ok, cr_err *err)
 }
 
 int cr_video_from_pngs(const char *dir, const char *prefix, int n, int fps, const char *name,
-                       int *padded, cr_err *err)
+                       int *padded, atomic_int *cancel, cr_err *err)
 {
     char path[4096], frame[4096], fname[64];
     cr_video v;
@@ -257,6 +257,10 @@ int cr_video_from_pngs(const char *dir, const char *prefix, int n, int fps, cons
     for (k = 0; k < n && rc == 0; k++) {
         uint8_t *rgb = NULL;
         int w, h;
+        if (cancel && atomic_load_explicit(cancel, memory_order_relaxed) > 0) {
+            rc = cr_err_set(err, "interrupted");
+            break;
+        }
         snprintf(fname, sizeof fname, "%s_%d.png", prefix, k);
         if (cr_path_join(frame, sizeof frame, dir, fname) != 0) {
             rc = cr_err_set(err, "output folder name too long: '%s'", dir);

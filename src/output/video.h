@@ -14,6 +14,8 @@
 #ifndef CR_IO_VIDEO_H
 #define CR_IO_VIDEO_H
 
+#include <stdatomic.h>
+
 #include "../base/error.h"
 #include "../base/limits.h" /* CR_VIDEO_MAX_FPS */
 
@@ -29,8 +31,10 @@ int cr_video_available(void);
 /* Write dir/name from the n frames dir/<prefix>_<k>.png at fps frames per
  * second (1..CR_VIDEO_MAX_FPS). *padded (may be NULL) is set to 1 when the
  * frame size was odd and padded to even. Every frame must have the size of
- * frame 0. Returns 0, or -1 with err set and no file (nor temporary) left. */
+ * frame 0. cancel (may be NULL) is read before every frame (relaxed atomic
+ * load): once it is > 0 the video stops with err "interrupted". Returns 0,
+ * or -1 with err set and no file (nor temporary) left. */
 int cr_video_from_pngs(const char *dir, const char *prefix, int n, int fps, const char *name,
-                       int *padded, cr_err *err);
+                       int *padded, atomic_int *cancel, cr_err *err);
 
 #endif

@@ -120,4 +120,75 @@ else
     OUT=$("$PROBE" d/c.mp4 d/c_0.png 2>&1)
     bad "default fps" "rc $RC"
 fi
+
+# --- SIGTERM while the video is encoded -------------------------------------
+# stops as during tracing: exit status 130, a message, no video and no
+# temporary file; the frames stay, and --resume then makes the video. The
+# frames are one rendered starry-sky frame linked N times, with the records
+# of a -f N run (its hash from the refusal of a made-up one), so that the
+# resumed run goes straight to a video of N frames (about a second of
+# encoding, the window for the signal; retried when it was missed).
+N=300
+cp "$ROOT/scenes/listing-7.1.2-starry-sky.yml" sky.yml
+SIG=(-s sky.yml -o sig -x 640 -y 480 -f $N -t icv -a)
+run -s sky.yml -o one -x 640 -y 480 -t ic -a
+mkdir sig
+printf 'curray\nRun\n  run hash               0000000000000000\n\n' >sig/info.txt
+run "${SIG[@]}" --resume
+hash=$(printf '%s\n' "$OUT" | sed -n "s/.*this run's is \([0-9a-f]\{16\}\).*/\1/p")
+sum=$(sed -n 's/^  frame file  *c_0\.png //p' one/info.txt)
+awk -v n=$N -v h="$hash" -v sum="$sum" 'BEGIN {
+    printf "curray\nStarted                  2026-01-01 00:00:00 +0000\n\nRun\n  run hash               %s\n\n", h
+    for (k = 0; k < n; k++)
+        printf "Frame %d\n  frame file             c_%d.png %s\nFinished %d of %d frames\n\n", k, k, sum, k + 1, n
+}' >sig/info.txt
+for k in $(seq 0 $((N - 1))); do ln one/c_0.png sig/c_$k.png; done
+# signal_video SIGNALS TEXT: start the resumed run, send SIGNALS (1 or 2
+# SIGTERMs) once the video's temporary file is there; caught=1 when the run
+# said TEXT (up to 5 tries: the video may end before the signal, or the run
+# before the second signal)
+signal_video() {
+    caught=0
+    for try in 1 2 3 4 5; do
+        rm -f sig/c.mp4
+        "$CURRAY" "${SIG[@]}" --resume </dev/null >sig.out 2>&1 &
+        pid=$!
+        for _ in $(seq 1 4000); do
+            compgen -G 'sig/.c.mp4.tmp.*' >/dev/null && break
+            sleep 0.005
+        done
+        kill -TERM $pid 2>/dev/null
+        # a second signal sent while the first is pending would merge with it
+        [ "$1" = 2 ] && sleep 0.002 && kill -TERM $pid 2>/dev/null
+        wait $pid
+        RC=$?
+        OUT=$(cat sig.out)
+        has "$2" && { caught=1; return; }
+        # 0: the video ended first; 130 without TEXT: the first signal
+        # stopped the run before the second came; else stopped otherwise
+        # (a death by the signal is 143)
+        [ $RC = 0 ] || [ $RC = 130 ] || return
+    done
+}
+signal_video 1 "interrupted while making the videos"
+if [ $caught = 1 ] && [ $RC = 130 ] &&
+   has "all $N frames are finished and kept in sig; the same command with --resume makes the videos" &&
+   [ ! -e sig/c.mp4 ] && [ -z "$(compgen -G 'sig/.*.tmp.*')" ] && [ -e sig/c_$((N - 1)).png ]; then
+    ok "SIGTERM while the video is encoded: exit 130, no video, no temporary, frames kept (try $try)"
+else
+    bad "SIGTERM during the video" "rc $RC, caught $caught; left: $(ls -a sig | grep tmp)"
+fi
+signal_video 2 "interrupted again: stopped at once"
+if [ $caught = 1 ] && [ $RC = 130 ] && [ ! -e sig/c.mp4 ] && [ -z "$(compgen -G 'sig/.*.tmp.*')" ] &&
+   [ -e sig/c_$((N - 1)).png ]; then
+    ok "two SIGTERMs while the video is encoded: stops at once, exit 130, no video, no temporary (try $try)"
+else
+    bad "two SIGTERMs during the video" "rc $RC, caught $caught; left: $(ls -a sig | grep tmp)"
+fi
+run "${SIG[@]}" --resume
+if [ $RC = 0 ] && has "resuming: $N of $N frames" && [ -s sig/c.mp4 ]; then
+    ok "--resume then makes the video"
+else
+    bad "--resume after the interrupted video" "rc $RC"
+fi
 finish
