@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 build=${1:-build} rounds=${2:-3} W=${3:-320} H=${4:-180}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-src="bench/web_bench.c src/wasm/web.c src/input/scene.c src/base/error.c src/input/sysconfig.c src/output/output.c"
+src="bench/web_bench.c src/wasm/web.c src/input/scene.c src/input/names.c src/base/error.c src/input/sysconfig.c src/output/output.c"
 host="src/input/yamlutil.c src/base/png_io.c src/output/info.c src/base/atomic.c src/base/fsutil.c"
 flags="-std=c11 -D_POSIX_C_SOURCE=200809L -DCURRAY_VERSION=\"bench\" -Isrc"
 wflags="$flags -ffunction-sections -fdata-sections -Wl,--gc-sections -isystem $build/wasm-include"

@@ -7,8 +7,8 @@
 #include <string.h>
 
 #include "../core/trace.h"
+#include "../input/names.h"
 #include "../input/scene.h"
-#include "../input/sysconfig.h"
 #include "../output/output.h"
 
 struct cr_web {
@@ -281,40 +281,28 @@ int cr_web_set(cr_web *w, const char *key, double v)
     return rc ? fail(w, "unknown scene key", key) : 0;
 }
 
-/* index of word in names[0..n), or -1 */
-static int word_index(const char *word, const char *const *names, int n)
-{
-    int i;
-    for (i = 0; i < n; i++)
-        if (!strcmp(word, names[i]))
-            return i;
-    return -1;
-}
-
 int cr_web_set_word(cr_web *w, const char *key, const char *word)
 {
-    /* the words of the scene file, in the order of their enums (defs.h) */
-    static const char *const motions[] = {"static", "zamo", "orbit", "infall", "velocity"};
-    static const char *const projections[] = {"rectilinear", "fisheye", "equirectangular"};
-    static const char *const models[] = {"chessboard", "keplerian"};
-    static const char *const inside[] = {"nothing", "plunging"};
     cr_scene *s = &w->scene;
     int i;
     w->ready = 0;
     if (!strcmp(key, "observer.motion")) {
-        if ((i = word_index(word, motions, 5)) < 0)
+        /* the words of the scene file (input/names.h); a velocity is a list there */
+        if (!strcmp(word, "velocity"))
+            i = CR_MOTION_VELOCITY;
+        else if ((i = cr_name_parse(CR_NAMES_MOTION, word, strlen(word))) < 0)
             return fail(w, "unknown motion", word);
         s->obs_motion = i;
     } else if (!strcmp(key, "observer.projection")) {
-        if ((i = word_index(word, projections, 3)) < 0)
+        if ((i = cr_name_parse(CR_NAMES_PROJECTION, word, strlen(word))) < 0)
             return fail(w, "unknown projection", word);
         s->obs_projection = i;
     } else if (!strcmp(key, "accretion.model")) {
-        if ((i = word_index(word, models, 2)) < 0)
+        if ((i = cr_name_parse(CR_NAMES_DISC_MODEL, word, strlen(word))) < 0)
             return fail(w, "unknown disc model", word);
         s->disc_model = i;
     } else if (!strcmp(key, "accretion.inside_isco")) {
-        if ((i = word_index(word, inside, 2)) < 0)
+        if ((i = cr_name_parse(CR_NAMES_INSIDE_ISCO, word, strlen(word))) < 0)
             return fail(w, "unknown value of accretion.inside_isco", word);
         s->disc_plunge = i;
     } else if (!strcmp(key, "name")) {
