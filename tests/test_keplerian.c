@@ -61,7 +61,7 @@ static cr_pixel trace_at(const cr_frame *f, double x, double y)
     cr_ray ray;
     double alpha, beta;
     cr_camera_screen(f, x, y, &alpha, &beta);
-    cr_mino_from_infinity(f, alpha, beta, &ray.c, ray.m);
+    cr_camera_ray_at_infinity(f, alpha, beta, &ray.c, ray.m);
     cr_ray_mino_start(f, &ray);
     return cr_trace_loop(f, &ray);
 }

@@ -243,7 +243,7 @@ static void walk_ray(const cr_frame *f, cr_ray *ray, walk *wk)
 /* The Mino ray of the observer at infinity at impact coordinates (alpha, beta). */
 static void ray_from_infinity(const cr_frame *f, double alpha, double beta, cr_ray *ray)
 {
-    cr_mino_from_infinity(f, alpha, beta, &ray->c, ray->m);
+    cr_camera_ray_at_infinity(f, alpha, beta, &ray->c, ray->m);
     cr_ray_mino_start(f, ray);
 }
 

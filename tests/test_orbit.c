@@ -452,7 +452,7 @@ static void test_static_is_special_case(void **state)
         wnull = fmax(wnull, fabs(null_norm_dn(&mt, ro, tho, po)));
         wnull = fmax(wnull, fabs(null_norm_dn(&mt, re, the, pe)));
         cr_test_empty_frame(&f, 1.0, a, q, ro, tho);
-        /* the frame's redshift of a static source (objects.h) against the
+        /* the frame's redshift of a static source (shift.h) against the
          * closed form sqrt(-g_tt)|e / sqrt(-g_tt)|o (ERRATA) */
         ref = sqrt(cr_metric_minus_gtt(&mt, re, the)) / sqrt(cr_metric_minus_gtt(&mt, ro, tho));
         worst = fmax(worst, rel(cr_redshift_static(&f, pe, pe, re, the), ref));

@@ -21,7 +21,7 @@
  *    they meet the top face on the far side, at phi_o + pi, after sweeping
  *    psi = 0.5 + pi/2 (same orbit equation), with 9 sectors so that the
  *    half-turn changes the sector's parity for half of the probes.
- * 2. Sphere chessboard (E.4, objects.h): nearly flat space (M = 1e-6: bending
+ * 2. Sphere chessboard (E.4, sphere.h): nearly flat space (M = 1e-6: bending
  *    below 1e-6 rad), a sphere of radius 4 at BL (12, 1.1, 0.5), observer at
  *    (30, 1.2, 0.2). Rays aimed at random points P = C + R d of the visible
  *    cap. Latitude and longitude of d are computed here from the sphere's

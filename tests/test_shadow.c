@@ -180,7 +180,7 @@ static void test_shadow_reissner_nordstrom(void **state)
  *   alpha = -lambda / sin(theta_o),
  *   beta  = +-sqrt(eta + a^2 cos^2(theta_o) - lambda^2 cot^2(theta_o)),
  * over the r_p where beta^2 >= 0. curray's backward ray has L = -lambda
- * (geodesic.h), and cr_mino_from_infinity gives it L = alpha sin(theta_o):
+ * (geodesic.h), and cr_camera_ray_at_infinity gives it L = alpha sin(theta_o):
  * the same alpha. Image right = +alpha (+phi), up = +beta (+z): the
  * prograde orbits (lambda > 0 for a > 0, smaller r_p) make the flattened
  * edge on the LEFT (checked below).
@@ -194,7 +194,7 @@ static void test_shadow_reissner_nordstrom(void **state)
  * pixel is 1/32 M; the traced edge must be within 0.5 px of the curve.
  *
  * Observer at infinity: observer.r = INFINITY, hextent = vextent = 16 M, each
- * point traced by cr_mino_from_infinity + cr_trace_loop.
+ * point traced by cr_camera_ray_at_infinity + cr_trace_loop.
  * Static observer at r_o = 1e6: hfov = vfov = 2 atan(8 M / r_o), and the
  * image point (alpha, beta) is looked at through the screen point
  * (sx, sy) = (alpha, beta) / r_o, i.e. the fractional pixel of
@@ -328,7 +328,7 @@ static int bardeen_trace(const cr_frame *f, double alpha, double beta)
     cr_pixel px;
     if (f->obs_at_inf) {
         cr_ray ray;
-        cr_mino_from_infinity(f, alpha, beta, &ray.c, ray.m);
+        cr_camera_ray_at_infinity(f, alpha, beta, &ray.c, ray.m);
         cr_ray_mino_start(f, &ray);
         px = cr_trace_loop(f, &ray);
     } else {

@@ -31,38 +31,9 @@
 #ifndef CR_CORE_CAMERA_H
 #define CR_CORE_CAMERA_H
 
-#include "geodesic.h"
+#include "coords.h"
+#include "mino.h"
 #include "observer.h"
-
-/* Rotate v (3 components) by angle ang about the unit axis k (right-hand
- * rule, Rodrigues' formula). */
-CR_HD static inline void cr_rotate(double v[3], const double k[3], double ang)
-{
-    double c = cos(ang), s = sin(ang);
-    double kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-    double x[3];
-    x[0] = k[1] * v[2] - k[2] * v[1];
-    x[1] = k[2] * v[0] - k[0] * v[2];
-    x[2] = k[0] * v[1] - k[1] * v[0];
-    v[0] = v[0] * c + x[0] * s + k[0] * kv * (1.0 - c);
-    v[1] = v[1] * c + x[1] * s + k[1] * kv * (1.0 - c);
-    v[2] = v[2] * c + x[2] * s + k[2] * kv * (1.0 - c);
-}
-
-/* Apply roll about -x, pitch about -z, yaw about -y (in that order) to n
- * vectors of a local (x, y, z) frame. Shared by the camera and the spheres. */
-CR_HD static inline void cr_rotate_rpy(double (*v)[3], int n, double roll, double pitch,
-                                       double yaw)
-{
-    const double mx[3] = {-1.0, 0.0, 0.0}, mz[3] = {0.0, 0.0, -1.0},
-                 my[3] = {0.0, -1.0, 0.0};
-    int i;
-    for (i = 0; i < n; i++) {
-        cr_rotate(v[i], mx, roll);
-        cr_rotate(v[i], mz, pitch);
-        cr_rotate(v[i], my, yaw);
-    }
-}
 
 /* Fill the observer-derived fields of f: tetrad, rotated camera axes, screen
  * half-extents, sqrt(-g_tt) at the observer, on-axis and at-infinity flags.
@@ -253,6 +224,42 @@ CR_HD static inline void cr_camera_ray(const cr_frame *f, const double n[3], cr_
     if (f->obs_on_axis)
         g->L = 0.0;
     cr_geo_set_floor(g, y);
+}
+
+/* Mino state and constants of the ray that reaches the observer at infinity
+ * at impact coordinates (alpha, beta) (Bardeen 1973): alpha along the image
+ * right, beta along the image up (cam[1], cam[2] of the frame, in units of
+ * M). The photon has unit energy at infinity (E = 1), so
+ *   dn/dtau = alpha e_right + beta e_up  (Cartesian),  L = (n x dn/dtau)_z,
+ * which is the textbook lambda = -alpha sin(theta_o) with the sign of
+ * geodesic.h, and eta = |dn/dtau|^2 - L^2 - a^2 cos^2(theta_o)
+ * = beta^2 + (alpha^2 - a^2) cos^2(theta_o) for roll = 0. */
+CR_HD static inline void cr_camera_ray_at_infinity(const cr_frame *f, double alpha,
+                                                   double beta, cr_mino *c, double *y)
+{
+    const cr_observer *o = &f->observer;
+    double st = sin(o->theta), ct = cos(o->theta), sp = sin(o->phi), cp = cos(o->phi);
+    double v[3], d[3], L, eta;
+    int k;
+    for (k = 0; k < 3; k++)
+        v[k] = alpha * f->cam[1][k] + beta * f->cam[2][k];
+    /* local (e_r, e_th, e_ph) -> Cartesian */
+    d[0] = v[0] * st * cp + v[1] * ct * cp - v[2] * sp;
+    d[1] = v[0] * st * sp + v[1] * ct * sp + v[2] * cp;
+    d[2] = v[0] * ct - v[1] * st;
+    y[CR_M_W] = 0.0;
+    y[CR_M_DW] = 1.0;
+    y[CR_M_NX] = st * cp;
+    y[CR_M_NY] = st * sp;
+    y[CR_M_NZ] = ct;
+    y[CR_M_DNX] = d[0];
+    y[CR_M_DNY] = d[1];
+    y[CR_M_DNZ] = d[2];
+    y[CR_M_PR] = 0.0;
+    L = y[CR_M_NX] * d[1] - y[CR_M_NY] * d[0];
+    eta = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - L * L -
+          f->metric.a * f->metric.a * ct * ct;
+    cr_mino_init(c, &f->metric, 1.0, L, eta, f->w_stop);
 }
 
 #endif

@@ -17,6 +17,7 @@
 #define CR_CORE_DEFS_H
 
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __CUDACC__
@@ -109,7 +110,7 @@ typedef enum cr_disc_model {
  * rotated by yaw about the polar axis; color1 is the top (theta < pi/2) face,
  * color2 the bottom.
  * CR_DISC_KEPLERIAN (fields below "keplerian", derived once per frame by
- * cr_disc_keplerian_prepare in trace.h): matter on circular orbits of sense
+ * cr_disc_keplerian_prepare in disc.h): matter on circular orbits of sense
  * `sense` (+1: counter-clockwise about +z); r_in is the effective inner edge
  * max(requested r_in, r_isco), so rays pass through the disc plane inside the
  * ISCO (nothing there); T(r) = t_scale F(r)^(1/4) in K from the flux table,
@@ -145,7 +146,7 @@ typedef struct cr_disc {
 /* A sphere defined in the Cartesian coordinates (2.2.8). Centre at BL
  * (r, theta, phi); chessboard of n_lat latitude bands x n_lon longitude
  * sectors; orientation by roll, pitch, yaw about its local axes (E.4).
- * center[] and axes[][] are derived by cr_sphere_prepare (objects.h):
+ * center[] and axes[][] are derived by cr_sphere_prepare (sphere.h):
  * axes[0] = longitude-zero direction, axes[1] = the sphere's north pole,
  * axes[2] = longitude +90 deg, all unit Cartesian vectors. */
 typedef struct cr_sphere {
@@ -195,7 +196,7 @@ typedef enum cr_integrator {
 /* Everything needed to trace every pixel of one frame: plain data, no
  * pointers but the sphere array and the sky texture (both read-only).
  * Filled by the scene module for frame k, then completed by
- * cr_frame_prepare (trace.h), which derives the fields marked "derived". */
+ * cr_frame_prepare (frame.h), which derives the fields marked "derived". */
 typedef struct cr_frame {
     cr_metric metric;
     cr_observer observer;

@@ -41,7 +41,7 @@
 #ifndef CR_CORE_MINO_H
 #define CR_CORE_MINO_H
 
-#include "camera.h"
+#include "geodesic.h"
 
 enum {
     CR_M_W = 0, /* w = 1/r */
@@ -228,42 +228,6 @@ CR_HD static inline void cr_mino_from_bl(const cr_geo *g, const double *yb, doub
     y[CR_M_DNZ] = -vth * st;
     y[CR_M_PR] = 0.0;
     cr_mino_init(c, &g->mt, g->E, g->L, cr_geo_carter(g, yb), w_stop);
-}
-
-/* Mino state and constants of the ray that reaches the observer at infinity
- * at impact coordinates (alpha, beta) (Bardeen 1973): alpha along the image
- * right, beta along the image up (cam[1], cam[2] of the frame, in units of
- * M). The photon has unit energy at infinity (E = 1), so
- *   dn/dtau = alpha e_right + beta e_up  (Cartesian),  L = (n x dn/dtau)_z,
- * which is the textbook lambda = -alpha sin(theta_o) with the sign of
- * geodesic.h, and eta = |dn/dtau|^2 - L^2 - a^2 cos^2(theta_o)
- * = beta^2 + (alpha^2 - a^2) cos^2(theta_o) for roll = 0. */
-CR_HD static inline void cr_mino_from_infinity(const cr_frame *f, double alpha, double beta,
-                                               cr_mino *c, double *y)
-{
-    const cr_observer *o = &f->observer;
-    double st = sin(o->theta), ct = cos(o->theta), sp = sin(o->phi), cp = cos(o->phi);
-    double v[3], d[3], L, eta;
-    int k;
-    for (k = 0; k < 3; k++)
-        v[k] = alpha * f->cam[1][k] + beta * f->cam[2][k];
-    /* local (e_r, e_th, e_ph) -> Cartesian */
-    d[0] = v[0] * st * cp + v[1] * ct * cp - v[2] * sp;
-    d[1] = v[0] * st * sp + v[1] * ct * sp + v[2] * cp;
-    d[2] = v[0] * ct - v[1] * st;
-    y[CR_M_W] = 0.0;
-    y[CR_M_DW] = 1.0;
-    y[CR_M_NX] = st * cp;
-    y[CR_M_NY] = st * sp;
-    y[CR_M_NZ] = ct;
-    y[CR_M_DNX] = d[0];
-    y[CR_M_DNY] = d[1];
-    y[CR_M_DNZ] = d[2];
-    y[CR_M_PR] = 0.0;
-    L = y[CR_M_NX] * d[1] - y[CR_M_NY] * d[0];
-    eta = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - L * L -
-          f->metric.a * f->metric.a * ct * ct;
-    cr_mino_init(c, &f->metric, 1.0, L, eta, f->w_stop);
 }
 
 /* ---- Dormand-Prince 5(4) ------------------------------------------------ */

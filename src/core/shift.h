@@ -12,7 +12,7 @@
  * only they are needed for observers with u^r = u^theta = 0 (static
  * observers, circular orbits): p . u = p_t u^t + p_phi u^phi.
  *
- * The paper's static redshift (6.9, cr_redshift_static in objects.h) is the
+ * The paper's static redshift (6.9, cr_redshift_static below) is the
  * special case u_obs = cr_shift_static_velocity at the camera and
  * u_em = cr_shift_static_velocity at the source: then g =
  * sqrt(-g_tt)|source / sqrt(-g_tt)|camera for any photon (tests/test_orbit.c).
@@ -52,6 +52,47 @@ CR_HD static inline int cr_shift_static_velocity(const cr_metric *mt, double r, 
     u[0] = 1.0 / sqrt(m);
     u[1] = u[2] = u[3] = 0.0;
     return 1;
+}
+
+/* The frame's observer's 4-velocity u^mu (BL components): e_t of its tetrad
+ * (camera.h), (1, 0, 0, 0) for the observer at infinity. */
+CR_HD static inline void cr_frame_observer_velocity(const cr_frame *f, double u[4])
+{
+    int k;
+    for (k = 0; k < 4; k++)
+        u[k] = f->obs_at_inf ? (k == 0 ? 1.0 : 0.0) : f->tetrad[0][k];
+}
+
+/* g = nu_obs / nu_em (shift.h, the one frequency ratio) of a photon with
+ * covariant momentum p at the emitter and p_obs at the observer (any common
+ * scale and sign: the ray's backward tangent -k serves; cr_ray keeps its
+ * p_obs) emitted by matter of 4-velocity u_em and received by the frame's
+ * observer. A moving observer (observer.h) may have u^r, u^theta != 0, so
+ * p_obs must be the ray's own momentum there; for an observer with
+ * u^r = u^theta = 0 (static, ZAMO, orbit, at infinity) only the conserved
+ * p_t, p_phi of p_obs enter, and p itself serves. -1 where the ratio is
+ * undefined (cr_shift_ratio). */
+CR_HD static inline double cr_frame_shift(const cr_frame *f, const double p_obs[4],
+                                          const double p[4], const double u_em[4])
+{
+    double u_obs[4];
+    cr_frame_observer_velocity(f, u_obs);
+    return cr_shift_ratio(p_obs, u_obs, p, u_em);
+}
+
+/* Redshift omega_r/omega_s (3.5.1, 6.9) of light with covariant momentum p
+ * (p_obs at the observer, as for cr_frame_shift) from a static source at (r, th) seen by the frame's observer: the one
+ * frequency ratio with the static emitter's 4-velocity. For the static
+ * observer it equals sqrt(-g_tt)|source / sqrt(-g_tt)|observer (ERRATA) to
+ * rounding, whatever p (tests/test_patterns.c). Returns -1 for a source
+ * inside the ergosurface, where no static source exists. */
+CR_HD static inline double cr_redshift_static(const cr_frame *f, const double p_obs[4],
+                                              const double p[4], double r, double th)
+{
+    double u_em[4];
+    if (!cr_shift_static_velocity(&f->metric, r, th, u_em))
+        return -1.0;
+    return cr_frame_shift(f, p_obs, p, u_em);
 }
 
 #endif

@@ -23,184 +23,10 @@
 #ifndef CR_CORE_TRACE_H
 #define CR_CORE_TRACE_H
 
-#include "colour.h"
-#include "mino.h"
-#include "objects.h"
-#include "orbit.h"
-#include "shift.h"
-
-/* Defaults of the raytracer settings (E.2). */
-#define CR_DEFAULT_STEP_MULTIPLIER 0.03125
-#define CR_DEFAULT_HORIZON_EPSILON 0.5e-2
-#define CR_DEFAULT_MAX_STEPS 200000L
-#define CR_DEFAULT_MAX_TURNS 50.0
-#define CR_DEFAULT_INTEGRATOR CR_INTEG_MINO
-#define CR_DEFAULT_TOLERANCE 1e-7
-
-/* The scene boundary when nothing else asks for more: beyond every photon
- * orbit of a Kerr-Newman hole (r <= 4M), so an outgoing ray there escapes. */
-#define CR_MIN_R_MAX_OVER_M 6.0
-
-/* Complete the derived fields of a frame whose scene and settings are set.
- * Requires a validated scene (a horizon, a static observer outside the
- * ergosurface or at infinity). Spheres must already be prepared
- * (cr_sphere_prepare). */
-CR_HD static inline void cr_frame_prepare(cr_frame *f)
-{
-    int at_inf = isinf(f->observer.r) && f->observer.r > 0.0;
-    double rm = at_inf ? 0.0 : f->observer.r;
-    int k;
-    f->r_stop = cr_metric_r_plus(&f->metric) + f->horizon_epsilon;
-    f->w_stop = 1.0 / f->r_stop;
-    if (f->disc.enabled && f->disc.r_out > rm)
-        rm = f->disc.r_out;
-    for (k = 0; k < f->n_spheres; k++) {
-        const double *c = f->spheres[k].center;
-        /* Cartesian distance bounds BL r from above: |x|^2 = r^2 + a^2 sin^2 */
-        double ext = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + f->spheres[k].radius;
-        if (ext > rm)
-            rm = ext;
-    }
-    rm += f->metric.m;
-    if (rm < CR_MIN_R_MAX_OVER_M * f->metric.m)
-        rm = CR_MIN_R_MAX_OVER_M * f->metric.m;
-    if (f->sky_boundary > rm)
-        rm = f->sky_boundary;
-    f->r_max = at_inf ? INFINITY : rm;
-    f->w_sky = (f->sky.rgb && !(f->sky_boundary > 0.0)) ? 0.0 : 1.0 / rm;
-    f->disc.r_hit_in = f->disc.plunge ? cr_metric_r_plus(&f->metric) : f->disc.r_in;
-    cr_camera_prepare(f);
-}
-
-/* Tone-curve white point of the Keplerian disc's colour (linear units of
- * the exposure below): the peak temperature seen at g = 1 maps to linear
- * luminance 1, which the extended Reinhard curve with white point 4 shows at
- * 0.625 of full scale, so blueshifted (g > 1, brighter) parts have headroom
- * up to luminance 4 before they saturate. */
-#define CR_KEPLER_WHITE 4.0
-
-/* Derive the Keplerian disc's per-frame data (cr_disc "keplerian" fields)
- * for a frame in units of M (M = 1) whose disc has model, sense (the orbit
- * sense s of orbit.h), plunge, r_in (the requested inner radius), r_out and
- * either t_peak or the physical inputs mass_msun, mdot_edd (both > 0) set.
- * Sets r_isco and the ISCO orbit's E_isco, L_isco, the effective inner edge
- * r_in = max(r_in, r_isco), the flux table with zero torque there, t_scale
- * and t_peak (T(r_peak) = t_peak), exposure (linear sRGB luminance of a
- * t_peak blackbody at g = 1 is 1) and white.
- * Temperature scale: given t_peak, t_scale = t_peak / F_max^(1/4); given the
- * physical inputs, sigma T^4 = (F / Mdot) Mdot c^6 / (G M)^2 with
- * M = mass_msun M_sun and Mdot = mdot_edd Mdot_Edd, Mdot_Edd = L_Edd /
- * (eta c^2), L_Edd = 4 pi G M m_p c / sigma_T and the radiative efficiency
- * eta = 1 - E(r_in) of the zero-torque edge (1 - E_isco for a disc down to
- * the ISCO), and then t_peak = t_scale F_max^(1/4) (orbit.h).
- * Returns 0, or -1 when there is no table (r_isco not finite, r_isco >= r_out,
- * or the ISCO within CR_FLUX_MIN_GAP of the photon orbit: |a| above about
- * 0.99999 M). Host code (thousands of metric evaluations). */
-CR_HD static inline int cr_disc_keplerian_prepare(cr_disc *d, const cr_metric *mt)
-{
-    double xyz[3], rgb[3], lum, r0;
-    cr_orbit o;
-    d->r_isco = cr_orbit_r_isco(mt, d->sense);
-    if (!cr_isfinite(d->r_isco) || !(d->r_isco < d->r_out) ||
-        !cr_orbit_eval(mt, d->sense, d->r_isco, &o))
-        return -1;
-    d->E_isco = o.E;
-    d->L_isco = o.L;
-    r0 = d->r_in > d->r_isco ? d->r_in : d->r_isco;
-    if (!cr_flux_table_fill(&d->flux, mt, d->sense, r0, d->r_out) ||
-        !cr_orbit_eval(mt, d->sense, r0, &o))
-        return -1;
-    d->r_in = r0;
-    if (d->mass_msun > 0.0 && d->mdot_edd > 0.0) {
-        double m_kg = d->mass_msun * CR_SI_M_SUN;
-        double mdot = d->mdot_edd * cr_flux_mdot_edd_si(m_kg, 1.0 - o.E);
-        d->t_scale = cr_flux_tscale_si(m_kg, mdot);
-        d->t_peak = d->t_scale * sqrt(sqrt(d->flux.F_max));
-    } else {
-        d->t_scale = cr_flux_tscale_peak(&d->flux, d->t_peak);
-    }
-    cr_bb_xyz(d->t_peak, 1.0, xyz);
-    cr_xyz_to_linear_srgb(xyz, rgb);
-    lum = cr_srgb_luminance(rgb);
-    d->exposure = lum > 0.0 ? 1.0 / lum : 1.0;
-    d->white = CR_KEPLER_WHITE;
-    return cr_isfinite(d->t_scale) && cr_isfinite(d->t_peak) && cr_isfinite(d->exposure) ? 0
-                                                                                        : -1;
-}
-
-/* The 4-velocity of the Keplerian disc's matter at BL radius r (theta =
- * pi/2): the circular orbit of the disc's sense at r >= r_isco, the matter
- * plunging from the ISCO (cr_orbit_plunge_velocity) inside it. Returns 0
- * where neither exists (no circular orbit; at or inside the horizon). */
-CR_HD static inline int cr_disc_keplerian_velocity(const cr_disc *d, const cr_metric *mt,
-                                                   double r, double u[4])
-{
-    cr_orbit o;
-    if (r < d->r_isco)
-        return cr_orbit_plunge_velocity(mt, d->E_isco, d->L_isco, r, u);
-    if (!cr_orbit_eval(mt, d->sense, r, &o))
-        return 0;
-    cr_orbit_velocity(&o, u);
-    return 1;
-}
-
-/* The frequency ratio g = nu_obs / nu_em (cr_frame_shift) of a photon with
- * covariant momentum p (cr_ray_momentum) emitted by the Keplerian disc's
- * matter (cr_disc_keplerian_velocity) at BL radius r and received by the
- * frame's observer. -1 where that matter does not exist. */
-CR_HD static inline double cr_disc_keplerian_g(const cr_frame *f, const double p_obs[4],
-                                               const double p[4], double r)
-{
-    double u_em[4];
-    if (!cr_disc_keplerian_velocity(&f->disc, &f->metric, r, u_em))
-        return -1.0;
-    return cr_frame_shift(f, p_obs, p, u_em);
-}
-
-/* Colour of the Keplerian disc at radius r seen with ratio g: the blackbody
- * of T(r) = t_scale F(r)^(1/4) through cr_bb_rgb8 (black where F = 0: the
- * zero-torque edge, and plunging matter inside it). *bolo receives the
- * bolometric brightness g^4 F(r) / F_max (cr_bolometric; 0 where g < 0). */
-CR_HD static inline cr_rgb cr_disc_keplerian_color(const cr_disc *d, double r, double g,
-                                                   double *bolo)
-{
-    double F = cr_flux_table_F(&d->flux, r);
-    double T = F > 0.0 ? d->t_scale * sqrt(sqrt(F)) : 0.0;
-    g = g > 0.0 ? g : 0.0;
-    *bolo = cr_bolometric(g, F / d->flux.F_max);
-    return cr_bb_rgb8(T, g, d->exposure, d->white);
-}
-
-/* Express every length of a frame in units of M (DESIGN "Conventions"), so
- * that an image never depends on the choice of M: divides the metric, the
- * observer's r and image-plane extents, the disc radii and the sky boundary
- * by M, and sets M = 1. Spheres are scaled by cr_sphere_to_units_of_m.
- * The dimensionless settings (horizon_epsilon, step_multiplier, tolerance)
- * are read in units of M. Call before cr_frame_prepare. */
-CR_HD static inline void cr_frame_to_units_of_m(cr_frame *f)
-{
-    double k = 1.0 / f->metric.m;
-    f->metric.a *= k;
-    f->metric.q *= k;
-    f->metric.m = 1.0;
-    f->observer.r *= k;
-    f->observer.hextent *= k;
-    f->observer.vextent *= k;
-    f->disc.r_in *= k;
-    f->disc.r_out *= k;
-    f->sky_boundary *= k;
-}
-
-/* The same for a sphere prepared (cr_sphere_prepare) on a metric of mass m. */
-CR_HD static inline void cr_sphere_to_units_of_m(cr_sphere *s, double m)
-{
-    double k = 1.0 / m;
-    int i;
-    s->r *= k;
-    s->radius *= k;
-    for (i = 0; i < 3; i++)
-        s->center[i] *= k;
-}
+#include "disc.h"
+#include "frame.h"
+#include "sky.h"
+#include "sphere.h"
 
 /* Largest state of either integrator. */
 #define CR_RAY_NY ((int)CR_MN > (int)CR_NY ? (int)CR_MN : (int)CR_NY)
@@ -584,15 +410,6 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
     cr_geo_through_axis(ray->y1);
     for (i = 0; i < CR_NY; i++)
         ray->y[i] = ray->y1[i];
-}
-
-/* phi reduced to [0, 2 pi) (the hit azimuth of cr_pixel). */
-CR_HD static inline double cr_wrap_2pi(double phi)
-{
-    double p = fmod(phi, CR_TWO_PI);
-    if (p < 0.0)
-        p += CR_TWO_PI;
-    return p < CR_TWO_PI ? p : 0.0; /* -tiny + 2 pi rounds to 2 pi */
 }
 
 /* ---- The path of one ray (--trace, curray.trace) ------------------------
@@ -1005,7 +822,7 @@ CR_HD static inline cr_pixel cr_trace_point_path(const cr_frame *f, double x, do
     if (f->obs_at_inf) {
         double alpha, beta;
         cr_camera_screen(f, x, y, &alpha, &beta);
-        cr_mino_from_infinity(f, alpha, beta, &ray.c, ray.m);
+        cr_camera_ray_at_infinity(f, alpha, beta, &ray.c, ray.m);
         cr_ray_mino_start(f, &ray);
     } else {
         cr_camera_pixel_dir(f, x, y, n);

@@ -439,7 +439,7 @@ int cr_web_probe(const cr_web *w, double x, double y, double *out)
             double alpha, beta, m[CR_MN];
             cr_mino c;
             cr_camera_screen(f, x, y, &alpha, &beta);
-            cr_mino_from_infinity(f, alpha, beta, &c, m);
+            cr_camera_ray_at_infinity(f, alpha, beta, &c, m);
             out[CR_WEB_PROBE_E] = c.E;
             out[CR_WEB_PROBE_L] = c.L;
             out[CR_WEB_PROBE_CARTER] = c.eta;

@@ -1,0 +1,84 @@
+/* curray core: the frame (cr_frame, defs.h): the defaults of its raytracer
+ * settings, its lengths in units of M, and the derived fields every ray
+ * reads (cr_frame_prepare).
+ */
+#ifndef CR_CORE_FRAME_H
+#define CR_CORE_FRAME_H
+
+#include "camera.h"
+
+/* Defaults of the raytracer settings (E.2). */
+#define CR_DEFAULT_STEP_MULTIPLIER 0.03125
+#define CR_DEFAULT_HORIZON_EPSILON 0.5e-2
+#define CR_DEFAULT_MAX_STEPS 200000L
+#define CR_DEFAULT_MAX_TURNS 50.0
+#define CR_DEFAULT_INTEGRATOR CR_INTEG_MINO
+#define CR_DEFAULT_TOLERANCE 1e-7
+
+/* The scene boundary when nothing else asks for more: beyond every photon
+ * orbit of a Kerr-Newman hole (r <= 4M), so an outgoing ray there escapes. */
+#define CR_MIN_R_MAX_OVER_M 6.0
+
+/* Express every length of a frame in units of M (DESIGN "Conventions"), so
+ * that an image never depends on the choice of M: divides the metric, the
+ * observer's r and image-plane extents, the disc radii and the sky boundary
+ * by M, and sets M = 1. Spheres are scaled by cr_sphere_to_units_of_m.
+ * The dimensionless settings (horizon_epsilon, step_multiplier, tolerance)
+ * are read in units of M. Call before cr_frame_prepare. */
+CR_HD static inline void cr_frame_to_units_of_m(cr_frame *f)
+{
+    double k = 1.0 / f->metric.m;
+    f->metric.a *= k;
+    f->metric.q *= k;
+    f->metric.m = 1.0;
+    f->observer.r *= k;
+    f->observer.hextent *= k;
+    f->observer.vextent *= k;
+    f->disc.r_in *= k;
+    f->disc.r_out *= k;
+    f->sky_boundary *= k;
+}
+
+/* The same for a sphere prepared (cr_sphere_prepare) on a metric of mass m. */
+CR_HD static inline void cr_sphere_to_units_of_m(cr_sphere *s, double m)
+{
+    double k = 1.0 / m;
+    int i;
+    s->r *= k;
+    s->radius *= k;
+    for (i = 0; i < 3; i++)
+        s->center[i] *= k;
+}
+
+/* Complete the derived fields of a frame whose scene and settings are set.
+ * Requires a validated scene (a horizon, a static observer outside the
+ * ergosurface or at infinity). Spheres must already be prepared
+ * (cr_sphere_prepare). */
+CR_HD static inline void cr_frame_prepare(cr_frame *f)
+{
+    int at_inf = isinf(f->observer.r) && f->observer.r > 0.0;
+    double rm = at_inf ? 0.0 : f->observer.r;
+    int k;
+    f->r_stop = cr_metric_r_plus(&f->metric) + f->horizon_epsilon;
+    f->w_stop = 1.0 / f->r_stop;
+    if (f->disc.enabled && f->disc.r_out > rm)
+        rm = f->disc.r_out;
+    for (k = 0; k < f->n_spheres; k++) {
+        const double *c = f->spheres[k].center;
+        /* Cartesian distance bounds BL r from above: |x|^2 = r^2 + a^2 sin^2 */
+        double ext = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + f->spheres[k].radius;
+        if (ext > rm)
+            rm = ext;
+    }
+    rm += f->metric.m;
+    if (rm < CR_MIN_R_MAX_OVER_M * f->metric.m)
+        rm = CR_MIN_R_MAX_OVER_M * f->metric.m;
+    if (f->sky_boundary > rm)
+        rm = f->sky_boundary;
+    f->r_max = at_inf ? INFINITY : rm;
+    f->w_sky = (f->sky.rgb && !(f->sky_boundary > 0.0)) ? 0.0 : 1.0 / rm;
+    f->disc.r_hit_in = f->disc.plunge ? cr_metric_r_plus(&f->metric) : f->disc.r_in;
+    cr_camera_prepare(f);
+}
+
+#endif
