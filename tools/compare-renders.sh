@@ -27,12 +27,13 @@
 # scene that one side refuses (rk4 with the observer at infinity) is compared
 # by its message.
 #
-# Every file is compared byte for byte; info.txt and the console output
-# ignoring their time lines (Started, Resumed, wall time, rays per second).
+# Every file is compared byte for byte; info.txt without its time lines
+# (Started, Resumed, wall time, rays per second), the logs (log/curray.log,
+# the console output) without time stamps, durations and speeds.
 # Prints the first differences and exits 1 on any, 0 when all are equal,
-# 2 on a usage or build error. -k keeps the render folders of WORKTREE
-# sides (the folder is printed). CURRAY_COMPARE_CACHE overrides the cache
-# folder.
+# 2 on a usage or build error. The renders of a side that is not a cached
+# commit are removed when all is equal, kept (and named above) otherwise, or
+# always with -k. CURRAY_COMPARE_CACHE overrides the cache folder.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -58,9 +59,18 @@ usage() {
     exit 2
 }
 
-# The lines of a text output that hold times: left out of the comparison.
+# A text output without its times: info.txt without its time lines; a log
+# (the output folder's log/curray.log, a run's console output) without the
+# time stamp that starts each line and with every duration ("0.03 s") and
+# speed ("1.04e+05 rays/s") written as T.
 strip_times() {
-    grep -Ev '^(Started|Resumed) |^  (wall time|rays per second) ' "$1" || true
+    case $1 in
+    *.log)
+        sed -E -e 's/^[0-9]{4}-[0-9]{2}-[0-9]{2} [0-9:.]+ //' \
+            -e 's/[0-9][0-9.e+-]* rays\/s/T rays\/s/g' -e 's/[0-9][0-9.]* s([:,;)]|$)/T s\1/g' "$1"
+        ;;
+    *) grep -Ev '^(Started|Resumed) |^  (wall time|rays per second) ' "$1" || true ;;
+    esac
 }
 
 # compare_dirs X Y: every file of X and Y byte for byte (text outputs
@@ -89,7 +99,7 @@ compare_dirs() {
             if ! cmp -s <(strip_times "$x/$f") <(strip_times "$y/$f"); then
                 n=$((n + 1))
                 if [ "$n" -le "$MAX_SHOWN" ]; then
-                    echo "differs: ${f#./} (time lines ignored)"
+                    echo "differs: ${f#./} (times ignored)"
                     diff <(strip_times "$x/$f") <(strip_times "$y/$f") | head -6 | sed 's/^/    /'
                 fi
             fi
@@ -254,8 +264,9 @@ fi
 [ $# -eq 2 ] || usage
 command -v cmake >/dev/null || die "cmake not found"
 tree_outs=()
+status=2
 cleanup() {
-    if [ "$keep" = 0 ] && [ ${#tree_outs[@]} -gt 0 ]; then
+    if [ "$keep" = 0 ] && [ "$status" = 0 ] && [ ${#tree_outs[@]} -gt 0 ]; then
         rm -rf "${tree_outs[@]}"
     fi
 }
@@ -267,7 +278,4 @@ side "$2" B
 b_out=$side_out
 status=0
 compare_dirs "$a_out" "$b_out" || status=1
-if [ "$status" != 0 ] && [ ${#tree_outs[@]} -gt 0 ] && [ "$keep" = 0 ]; then
-    echo "(run with -k to keep the WORKTREE renders)"
-fi
 exit $status

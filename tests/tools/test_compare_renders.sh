@@ -23,6 +23,9 @@ make() {
     printf '0\n' >"$1/scene/rk4/render.status"
     : >"$1/scene/rk4/render.log"
     printf 's,t,r\n0,0,30\n' >"$1/scene/rk4/trace-1-2/trace_1_2_0.csv"
+    mkdir -p "$1/scene/rk4/render/log"
+    printf '%s [info] frame 0 of 2 done in %s s: %s rays/s, 12.6 steps/ray, horizon 136\n%s [info] done: 2 frames in %s s, outputs in o\n' \
+        "$2" "$3" "$4" "$2" "$3" >"$1/scene/rk4/render/log/curray.log"
 }
 
 # check NAME WANT_RC WANT_TEXT: run --dirs a b
@@ -39,36 +42,39 @@ check() {
     fi
 }
 
-make a "2026-01-01 10:00:00 +0000" 0.100 120
-make b "2026-01-01 10:00:00 +0000" 0.100 120
-check "equal folders" 0 "identical: 7 files"
-make b "2027-12-31 23:59:59 +0100" 9.999 1
-check "info.txt differs in its time lines only" 0 "identical: 7 files"
-make b x 1 1
+make a "2026-01-01 10:00:00.123" 0.100 120
+make b "2026-01-01 10:00:00.123" 0.100 120
+check "equal folders" 0 "identical: 8 files"
+make b "2027-12-31 23:59:59.999" 9.999 1.04e+05
+check "info.txt and the log differ in their times only" 0 "identical: 8 files"
+make b "2026-01-02 11:00:00.5" 2 3
 printf 'Resumed                  now\n' >>b/scene/rk4/render/info.txt
 check "a Resumed line only" 0 "identical"
-make b x 1 1
+make b "2026-01-02 11:00:00.5" 2 3
 sed -i 's/rays                   12/rays                   13/' b/scene/rk4/render/info.txt
-check "info.txt differs in a counted line" 1 "differs: scene/rk4/render/info.txt (time lines ignored)"
-make b x 1 1
+check "info.txt differs in a counted line" 1 "differs: scene/rk4/render/info.txt (times ignored)"
+make b "2026-01-02 11:00:00.5" 2 3
 printf '\x89PNG\r\n\x1a\n\0\0\0\rIHDX' >b/scene/rk4/render/c_0.png
 check "one byte of a PNG" 1 "differs: scene/rk4/render/c_0.png"
-make b x 1 1
+make b "2026-01-02 11:00:00.5" 2 3
 printf 'x,y,r\n0,0,1\n1,0,2.0000000000000004\n' >b/scene/rk4/render/d_0.csv
 check "one number of a CSV" 1 "> 1,0,2.0000000000000004"
-make b x 1 1
+make b "2026-01-02 11:00:00.5" 2 3
 printf 'SIMPLE  =                    F' >b/scene/rk4/render/f_0.fits
 check "one byte of a FITS file" 1 "differs: scene/rk4/render/f_0.fits"
-make b x 1 1
+make b "2026-01-02 11:00:00.5" 2 3
 printf '1\n' >b/scene/rk4/render.status
 check "the exit status" 1 "differs: scene/rk4/render.status"
-make b x 1 1
+make b "2026-01-02 11:00:00.5" 2 3
 printf 'curray: a warning\n' >b/scene/rk4/render.log
 check "the console output" 1 "differs: scene/rk4/render.log"
-make b x 1 1
+make b "2026-01-01 10:00:00.123" 1 1
+sed -i 's/horizon 136/horizon 137/' b/scene/rk4/render/log/curray.log
+check "a count in the log" 1 "differs: scene/rk4/render/log/curray.log (times ignored)"
+make b "2026-01-02 11:00:00.5" 2 3
 rm b/scene/rk4/trace-1-2/trace_1_2_0.csv
 check "a file missing on one side" 1 "only in a: scene/rk4/trace-1-2/trace_1_2_0.csv"
-make b x 1 1
+make b "2026-01-02 11:00:00.5" 2 3
 touch b/scene/rk4/render/c_1.png
 check "a file only on the other side" 1 "only in b: scene/rk4/render/c_1.png"
 rm -rf b
