@@ -33,7 +33,8 @@
 # Prints the first differences and exits 1 on any, 0 when all are equal,
 # 2 on a usage or build error. The renders of a side that is not a cached
 # commit are removed when all is equal, kept (and named above) otherwise, or
-# always with -k. CURRAY_COMPARE_CACHE overrides the cache folder.
+# always with -k. CURRAY_COMPARE_CACHE overrides the cache folder; it keeps
+# the CURRAY_COMPARE_KEEP (default 8) entries used last, about 150 MB each.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -48,6 +49,7 @@ INTEGRATORS=(default rk4)
 # renders cached under another plan are not reused.
 PLAN="v2 ${WIDTH}x${HEIGHT} f$FRAMES t$TYPES trace ${TRACES[*]} ${INTEGRATORS[*]}"
 MAX_SHOWN=20
+CACHE_KEEP=${CURRAY_COMPARE_KEEP:-8}
 
 die() {
     echo "compare-renders: $*" >&2
@@ -221,6 +223,16 @@ render_all() {
     rm -rf "$work"
 }
 
+# prune_cache: removes the cache entries but the CACHE_KEEP used last (an
+# entry in use by another run, its lock held, stays).
+prune_cache() {
+    local d
+    ls -1dt "$CACHE"/*/ 2>/dev/null | tail -n +$((CACHE_KEEP + 1)) | while IFS= read -r d; do
+        d=${d%/}
+        (flock -n 8 || exit 0; rm -rf "$d" "$d.lock") 8>"$d.lock"
+    done
+}
+
 # side SPEC LABEL: builds and renders one side; sets side_out.
 side() {
     side_label=$2
@@ -229,6 +241,8 @@ side() {
     # one build and one render at a time per cache entry, across processes
     exec 9>"$CACHE/$side_key.lock"
     flock 9
+    mkdir -p "$CACHE/$side_key"
+    touch "$CACHE/$side_key"
     build
     local dir=$CACHE/$side_key plan_key
     plan_key=$(printf '%s' "$PLAN" | sha1sum | cut -c1-12)
@@ -271,6 +285,8 @@ cleanup() {
     fi
 }
 trap cleanup EXIT
+mkdir -p "$CACHE"
+prune_cache
 side "$1" A
 a_out=$side_out
 first_key=$side_key

@@ -81,4 +81,16 @@ rm -rf b
 out=$(bash "$CMP" --dirs a b 2>&1); rc=$?
 if [ "$rc" = 2 ] && [[ "$out" == *"no folder 'b'"* ]]; then echo "ok   a missing folder"; else
     echo "FAIL a missing folder: exit status $rc: $out"; failed=1; fi
+
+# the cache keeps the entries used last: CURRAY_COMPARE_KEEP=2 of 4 (the
+# unknown commits are refused after the pruning, before anything is built)
+for i in 1 2 3 4; do mkdir -p "cache/k$i"; touch -d "2026-01-01 10:0$i:00" "cache/k$i"; done
+CURRAY_COMPARE_CACHE=$WORK/cache CURRAY_COMPARE_KEEP=2 bash "$CMP" no-such-commit-a no-such-commit-b >prune.out 2>&1
+rc=$?
+left=$(cd cache && ls -d k* | tr '\n' ' ')
+if [ "$rc" = 2 ] && [ "$left" = "k3 k4 " ] && grep -q "'no-such-commit-a' is neither a commit" prune.out; then
+    echo "ok   the cache keeps the entries used last"
+else
+    echo "FAIL the cache keeps the entries used last: exit status $rc, left: $left"; cat prune.out; failed=1
+fi
 exit $failed
