@@ -34,7 +34,7 @@
 # 2 on a usage or build error. The renders of a side that is not a cached
 # commit are removed when all is equal, kept (and named above) otherwise, or
 # always with -k. CURRAY_COMPARE_CACHE overrides the cache folder; it keeps
-# the CURRAY_COMPARE_KEEP (default 8) entries used last, about 150 MB each.
+# the CURRAY_COMPARE_KEEP (default 12) entries used last, about 150 MB each.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -49,7 +49,7 @@ INTEGRATORS=(default rk4)
 # renders cached under another plan are not reused.
 PLAN="v2 ${WIDTH}x${HEIGHT} f$FRAMES t$TYPES trace ${TRACES[*]} ${INTEGRATORS[*]}"
 MAX_SHOWN=20
-CACHE_KEEP=${CURRAY_COMPARE_KEEP:-8}
+CACHE_KEEP=${CURRAY_COMPARE_KEEP:-12}
 
 die() {
     echo "compare-renders: $*" >&2
@@ -223,13 +223,14 @@ render_all() {
     rm -rf "$work"
 }
 
-# prune_cache: removes the cache entries but the CACHE_KEEP used last (an
-# entry in use by another run, its lock held, stays).
+# prune_cache: removes the cache entries but the CACHE_KEEP used last. An
+# entry that a run is using stays: every run holds a shared lock on its
+# sides' <entry>.use until it exits.
 prune_cache() {
     local d
     ls -1dt "$CACHE"/*/ 2>/dev/null | tail -n +$((CACHE_KEEP + 1)) | while IFS= read -r d; do
         d=${d%/}
-        (flock -n 8 || exit 0; rm -rf "$d" "$d.lock") 8>"$d.lock"
+        (flock -n 8 || exit 0; rm -rf "$d" "$d.lock" "$d.use") 8>"$d.use"
     done
 }
 
@@ -238,6 +239,10 @@ side() {
     side_label=$2
     resolve "$1"
     mkdir -p "$CACHE"
+    # in use until this run exits (prune_cache leaves it alone)
+    local use_fd
+    exec {use_fd}>"$CACHE/$side_key.use"
+    flock -s "$use_fd"
     # one build and one render at a time per cache entry, across processes
     exec 9>"$CACHE/$side_key.lock"
     flock 9

@@ -87,10 +87,25 @@ if [ "$rc" = 2 ] && [[ "$out" == *"no folder 'b'"* ]]; then echo "ok   a missing
 for i in 1 2 3 4; do mkdir -p "cache/k$i"; touch -d "2026-01-01 10:0$i:00" "cache/k$i"; done
 CURRAY_COMPARE_CACHE=$WORK/cache CURRAY_COMPARE_KEEP=2 bash "$CMP" no-such-commit-a no-such-commit-b >prune.out 2>&1
 rc=$?
-left=$(cd cache && ls -d k* | tr '\n' ' ')
+left=$(cd cache && ls -d k*/ | tr -d / | tr '\n' ' ')
 if [ "$rc" = 2 ] && [ "$left" = "k3 k4 " ] && grep -q "'no-such-commit-a' is neither a commit" prune.out; then
     echo "ok   the cache keeps the entries used last"
 else
     echo "FAIL the cache keeps the entries used last: exit status $rc, left: $left"; cat prune.out; failed=1
+fi
+# an entry another run is using (its shared lock on <entry>.use held) stays
+rm -rf cache
+for i in 1 2 3 4; do mkdir -p "cache/k$i"; touch -d "2026-01-01 10:0$i:00" "cache/k$i"; done
+(exec 7>cache/k1.use; flock -s 7; exec sleep 30) &
+holder=$!
+sleep 0.5
+CURRAY_COMPARE_CACHE=$WORK/cache CURRAY_COMPARE_KEEP=2 bash "$CMP" no-such-commit-a no-such-commit-b >prune.out 2>&1
+kill "$holder" 2>/dev/null
+wait "$holder" 2>/dev/null
+left=$(cd cache && ls -d k*/ | tr -d / | tr '\n' ' ')
+if [ "$left" = "k1 k3 k4 " ]; then
+    echo "ok   an entry in use is not pruned"
+else
+    echo "FAIL an entry in use is not pruned: left: $left"; failed=1
 fi
 exit $failed
