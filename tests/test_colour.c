@@ -317,6 +317,165 @@ static void test_g_shift(void **state)
     }
 }
 
+/* --- the Planckian locus from 100 K to 1e9 K ---------------------------------
+ * References, each independent of colour.h's table and Planck code:
+ *  - Kim, Kim, Lee, Kim & Cho (2002, US patent 7024034 / "Design of advanced
+ *    color temperature control system for HDTV applications", J. Korean
+ *    Phys. Soc. 41, 865): cubic splines x_c(T), y_c(x_c), 1667 to 25000 K;
+ *  - Krystek (1985, Color Res. Appl. 10, 38): rational (u, v)(T) in CIE 1960
+ *    UCS, 1000 to 15000 K;
+ *  - Planck's law integrated here (own code, Simpson, 1 nm from 360 to
+ *    830 nm) against the multi-lobe fit of the CIE 1931 functions by Wyman,
+ *    Sloan & Shirley (2013, JCGT 2(2), 1), 5000 K to 1e9 K (and 1e300 K),
+ *    where the spectrum is smooth and the fit good (in its red tail it is
+ *    not: no use below 5000 K);
+ *  - the red end of the CIE 1931 spectral locus, x = 0.73469, y = 0.26531
+ *    from 700 nm on (CIE 15), which a blackbody approaches as T -> 0: at
+ *    100 to 200 K more than 99.9 % of the weighted spectrum is beyond 690 nm.
+ * Between 200 and 1000 K no table is at hand: the locus must run
+ * monotonically from the 1000 K point (Walker, test_planckian_locus) to
+ * the spectral red end. Tolerances: 1e-3 in x and y against Kim and
+ * Krystek (their own accuracy is a few 1e-4), 5e-4 against the fit, 2e-4
+ * against the red end; the measured worst is printed. */
+static void kim_xy(double t, double xy[2])
+{
+    double x, t2 = t * t, t3 = t2 * t;
+    if (t <= 4000.0)
+        x = -0.2661239e9 / t3 - 0.2343589e6 / t2 + 0.8776956e3 / t + 0.179910;
+    else
+        x = -3.0258469e9 / t3 + 2.1070379e6 / t2 + 0.2226347e3 / t + 0.240390;
+    if (t <= 2222.0)
+        xy[1] = -1.1063814 * x * x * x - 1.34811020 * x * x + 2.18555832 * x - 0.20219683;
+    else if (t <= 4000.0)
+        xy[1] = -0.9549476 * x * x * x - 1.37418593 * x * x + 2.09137015 * x - 0.16748867;
+    else
+        xy[1] = 3.0817580 * x * x * x - 5.87338670 * x * x + 3.75112997 * x - 0.37001483;
+    xy[0] = x;
+}
+
+static void krystek_xy(double t, double xy[2])
+{
+    double u = (0.860117757 + 1.54118254e-4 * t + 1.28641212e-7 * t * t) /
+               (1.0 + 8.42420235e-4 * t + 7.08145163e-7 * t * t);
+    double v = (0.317398726 + 4.22806245e-5 * t + 4.20481691e-8 * t * t) /
+               (1.0 - 2.89741816e-5 * t + 1.61456053e-7 * t * t);
+    uv_to_xy(u, v, xy);
+}
+
+/* Wyman, Sloan & Shirley's piecewise Gaussian. */
+static double wss_g(double l, double mu, double s1, double s2)
+{
+    double d = (l - mu) / (l < mu ? s1 : s2);
+    return exp(-0.5 * d * d);
+}
+
+static void wss_xy(double t, double xy[2])
+{
+    const double c2 = 1.438776877e-2; /* h c / k, m K */
+    double sum[3] = {0.0, 0.0, 0.0};
+    int i, n = 470;
+    for (i = 0; i <= n; i++) {
+        double l = 360.0 + i, lm = l * 1e-9;
+        double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+        /* B_lambda / T up to a constant: no overflow at any T */
+        double b = w / (lm * lm * lm * lm * lm * (t * expm1(c2 / (lm * t))));
+        sum[0] += b * (1.056 * wss_g(l, 599.8, 37.9, 31.0) + 0.362 * wss_g(l, 442.0, 16.0, 26.7) -
+                       0.065 * wss_g(l, 501.1, 20.4, 26.2));
+        sum[1] += b * (0.821 * wss_g(l, 568.8, 46.9, 40.5) + 0.286 * wss_g(l, 530.9, 16.3, 31.1));
+        sum[2] += b * (1.217 * wss_g(l, 437.0, 11.8, 36.0) + 0.681 * wss_g(l, 459.0, 26.0, 13.8));
+    }
+    xy[0] = sum[0] / (sum[0] + sum[1] + sum[2]);
+    xy[1] = sum[1] / (sum[0] + sum[1] + sum[2]);
+}
+
+static void test_locus_100k_to_1e9k(void **state)
+{
+    double worst_kim = 0.0, worst_kry = 0.0, worst_wss = 0.0, worst_red = 0.0;
+    double px = 0.0, py = 1.0, lt;
+    (void)state;
+    /* 20 temperatures a decade, 1e2 to 1e9 K, and 1e300 K */
+    for (lt = 2.0; lt <= 9.0 + 1e-9; lt += 0.05) {
+        double t = pow(10.0, lt), x, y, r[2], d;
+        bb_xy(t, 1.0, &x, &y);
+        assert_true(x > 0.0 && y > 0.0);
+        if (t <= 200.0) {
+            d = fmax(fabs(x - 0.73469), fabs(y - 0.26531));
+            worst_red = fmax(worst_red, d);
+            assert_true(d <= 2e-4);
+        }
+        if (t >= 1000.0 && t <= 15000.0) {
+            krystek_xy(t, r);
+            d = fmax(fabs(x - r[0]), fabs(y - r[1]));
+            worst_kry = fmax(worst_kry, d);
+            assert_true(d <= 1e-3);
+        }
+        if (t >= 1667.0 && t <= 25000.0) {
+            kim_xy(t, r);
+            d = fmax(fabs(x - r[0]), fabs(y - r[1]));
+            worst_kim = fmax(worst_kim, d);
+            assert_true(d <= 1e-3);
+        }
+        if (t >= 5000.0) {
+            wss_xy(t, r);
+            d = fmax(fabs(x - r[0]), fabs(y - r[1]));
+            worst_wss = fmax(worst_wss, d);
+            assert_true(d <= 5e-4);
+        }
+        if (t <= 1000.0 && lt > 2.0) /* cooler is redder: x up, y down as T falls */
+            assert_true(x < px && y > py);
+        px = x;
+        py = y;
+    }
+    printf("  locus 100 K .. 1e9 K: worst |d| against the red end %.1e (<= 200 K), Krystek "
+           "%.1e, Kim %.1e, the fit %.1e (>= 5000 K)\n",
+           worst_red, worst_kry, worst_kim, worst_wss);
+    {
+        double x, y, r[2], xyz[3];
+        cr_bb_xyz(1e300, 1.0, xyz);
+        assert_true(cr_isfinite(xyz[0]) && cr_isfinite(xyz[1]) && cr_isfinite(xyz[2]));
+        bb_xy(1e300, 1.0, &x, &y);
+        wss_xy(1e300, r);
+        printf("  1e300 K: x %.5f y %.5f, the fit %.5f %.5f\n", x, y, r[0], r[1]);
+        assert_true(fabs(x - r[0]) <= 5e-4 && fabs(y - r[1]) <= 5e-4);
+    }
+}
+
+/* The displayed colour of a blackbody is never magenta: green below both
+ * red and blue by more than 16 of 255 (a 6500 K blackbody is slightly
+ * magenta inside the gamut, by 3). Every temperature from 50 K to 1e9 K
+ * (20 a decade, and 1e300 K), at luminances 0.05 to 1e4 before tone mapping
+ * (white point 4, as the Keplerian disc), with the exposure of the
+ * temperature itself; never black either. */
+static void test_no_magenta(void **state)
+{
+    static const double lums[] = {0.05, 0.25, 1.0, 4.0, 100.0, 1e4};
+    double worst = -255.0, worst_t = 0.0;
+    int j;
+    (void)state;
+    for (j = 0; j <= 147; j++) { /* 50 K * 10^(j / 20) up to 1e9 K, then 1e300 K */
+        double t = j < 147 ? 50.0 * pow(10.0, 0.05 * j) : 1e300, xyz[3], rgb[3], lum;
+        size_t i;
+        cr_bb_xyz(t, 1.0, xyz);
+        cr_xyz_to_linear_srgb(xyz, rgb);
+        lum = cr_srgb_luminance(rgb);
+        assert_true(lum > 0.0 && cr_isfinite(lum));
+        for (i = 0; i < sizeof lums / sizeof lums[0]; i++) {
+            cr_rgb p = cr_bb_rgb8(t, 1.0, lums[i] / lum, 4.0);
+            int m = (p.r < p.b ? p.r : p.b) - p.g;
+            if (m > worst) {
+                worst = m;
+                worst_t = t;
+            }
+            if (m > 16 || (p.r | p.g | p.b) == 0)
+                printf("  %.4g K at luminance %g: (%d, %d, %d)\n", t, lums[i], p.r, p.g, p.b);
+            assert_true(m <= 16);
+            assert_true((p.r | p.g | p.b) != 0);
+        }
+    }
+    printf("  50 K .. 1e9 K and 1e300 K: min(R, B) - G at most %.0f (at %.4g K), limit 16\n",
+           worst, worst_t);
+}
+
 static void test_srgb_pieces(void **state)
 {
     double d65[3], rgb[3], lo, hi, v, prev;
@@ -383,6 +542,7 @@ int main(void)
         cmocka_unit_test(test_6500_white),      cmocka_unit_test(test_redder_when_cooler),
         cmocka_unit_test(test_wien),            cmocka_unit_test(test_stefan_boltzmann),
         cmocka_unit_test(test_g_shift),         cmocka_unit_test(test_srgb_pieces),
+        cmocka_unit_test(test_locus_100k_to_1e9k), cmocka_unit_test(test_no_magenta),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

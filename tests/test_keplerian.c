@@ -357,6 +357,50 @@ static void test_physical_temperature(void **state)
  * here: equal to the traced pixel, and within the bounds of the edge-on
  * extremes is tested above), its bolometric column g^4 F(hit_r) / F_max from
  * the direct quadrature and g (tol 2e-5), and every other row -1. */
+/* Extreme peak temperatures through the disc's own chain (exposure from
+ * cr_disc_keplerian_prepare, cr_disc_keplerian_color): at 1e300 K no disc
+ * pixel is black (the XYZ of such a peak is near the largest double), and at
+ * 50 to 700 K no disc pixel is magenta (green below both red and blue by
+ * more than 16), in an edge-on view whose approaching side is blueshifted
+ * (the brightest pixels). */
+static void test_extreme_temperatures(void **state)
+{
+    static const double temps[] = {1e300, 50.0, 300.0, 700.0};
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof temps / sizeof temps[0]; i++) {
+        char text[512];
+        cr_frame f;
+        cr_scene s;
+        int x, y, n_disc = 0, n_lit = 0, worst = -255;
+        snprintf(text, sizeof text,
+                 "metric: {m: 1, a: 0.9, q: 0}\n"
+                 "observer: {r: inf, theta: 80, phi: 0, hextent: 50}\n"
+                 "accretion: {model: keplerian, radius: [20], temperature: %.17g}\n",
+                 temps[i]);
+        frame_from(text, CR_INTEG_MINO, 48, 24, &f, &s);
+        for (y = 0; y < 24; y++)
+            for (x = 0; x < 48; x++) {
+                cr_pixel p = trace_at(&f, x + 0.5, y + 0.5);
+                int m;
+                if (p.outcome != CR_OUT_DISC)
+                    continue;
+                n_disc++;
+                n_lit += (p.color.r | p.color.g | p.color.b) != 0;
+                m = (p.color.r < p.color.b ? p.color.r : p.color.b) - p.color.g;
+                worst = m > worst ? m : worst;
+            }
+        print_message("peak %.4g K: %d disc pixels, %d not black, min(R, B) - G at most %d\n",
+                      temps[i], n_disc, n_lit, worst);
+        assert_true(n_disc > 50);
+        /* a cool disc is dark but near its peak: the Wien tail falls by
+         * orders of magnitude with a few per cent of temperature */
+        assert_true(temps[i] > 1e9 ? n_lit == n_disc : n_lit > 0);
+        assert_true(worst <= 16);
+        cr_scene_free(&s);
+    }
+}
+
 static void test_csv(void **state)
 {
     static const char text[] = "metric: {m: 1, a: 0, q: 0}\n"
@@ -446,6 +490,7 @@ int main(void)
         cmocka_unit_test(test_plunging),
         cmocka_unit_test(test_bolometric),
         cmocka_unit_test(test_physical_temperature),
+        cmocka_unit_test(test_extreme_temperatures),
         cmocka_unit_test(test_csv),
         cmocka_unit_test(test_bolometric_png),
     };

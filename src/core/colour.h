@@ -64,17 +64,28 @@ CR_HD static inline double cr_planck_nu(double nu, double t)
     return 2.0 * CR_PLANCK_H * nu * nu * nu / (CR_LIGHT_C * CR_LIGHT_C) / expm1(x);
 }
 
+/* Planck's law per unit wavelength divided by the temperature, B_lambda(T) / T
+ * in W m^-2 sr^-1 m^-1 K^-1: finite for every finite T > 0 (B_lambda itself
+ * exceeds the largest double above about 1e296 K, where it is the
+ * Rayleigh-Jeans 2 c k T / lambda^4: T expm1(h c / lambda k T) tends to
+ * h c / lambda k). 0 for lambda <= 0, T <= 0 or T = inf, and where the Wien
+ * tail underflows (about T < lambda / 170 nm K). */
+CR_HD static inline double cr_planck_lambda_per_t(double lambda, double t)
+{
+    double x, l2;
+    if (!(lambda > 0.0) || !(t > 0.0) || !cr_isfinite(t))
+        return 0.0;
+    x = CR_PLANCK_H * CR_LIGHT_C / (lambda * CR_BOLTZMANN_K * t);
+    l2 = lambda * lambda;
+    return 2.0 * CR_PLANCK_H * CR_LIGHT_C * CR_LIGHT_C / (l2 * l2 * lambda) / (t * expm1(x));
+}
+
 /* Planck's law per unit wavelength: B_lambda(T) = 2 h c^2 / lambda^5 /
  * (exp(h c / lambda k T) - 1), W m^-2 sr^-1 m^-1; lambda in metres.
  * B_lambda = B_nu c / lambda^2 at nu = c / lambda. 0 for lambda <= 0 or T <= 0. */
 CR_HD static inline double cr_planck_lambda(double lambda, double t)
 {
-    double x, l2;
-    if (!(lambda > 0.0) || !(t > 0.0))
-        return 0.0;
-    x = CR_PLANCK_H * CR_LIGHT_C / (lambda * CR_BOLTZMANN_K * t);
-    l2 = lambda * lambda;
-    return 2.0 * CR_PLANCK_H * CR_LIGHT_C * CR_LIGHT_C / (l2 * l2 * lambda) / expm1(x);
+    return t * cr_planck_lambda_per_t(lambda, t);
 }
 
 /* Observed specific intensity of a blackbody of temperature t seen with
@@ -215,22 +226,36 @@ CR_HD static inline void cr_cmf_integrate(const double s_lambda[CR_CMF_N], doubl
     }
 }
 
-/* XYZ (W m^-2 sr^-1) of the observed spectrum of a blackbody of temperature
- * t (K) seen with frequency ratio g > 0: the integral of
- * cr_bb_observed_lambda against the table, as cr_cmf_integrate, without a
- * spectrum array. */
-CR_HD static inline void cr_bb_xyz(double t, double g, double xyz[3])
+/* XYZ of a blackbody of temperature tg (K) divided by tg (W m^-2 sr^-1 K^-1):
+ * the integral of cr_planck_lambda_per_t against the table, as
+ * cr_cmf_integrate. Finite for every finite tg, so that its chromaticity
+ * and its brightness relative to another temperature never overflow. */
+CR_HD static inline void cr_bb_xyz_per_t(double tg, double xyz[3])
 {
     double bar[3];
     int i;
     xyz[0] = xyz[1] = xyz[2] = 0.0;
     for (i = 0; i < CR_CMF_N; i++) {
-        double w = CR_CMF_DLAMBDA * cr_bb_observed_lambda(cr_cmf_lambda(i), g, t);
+        double w = CR_CMF_DLAMBDA * cr_planck_lambda_per_t(cr_cmf_lambda(i), tg);
         cr_cie1931_cmf(i, bar);
         xyz[0] += w * bar[0];
         xyz[1] += w * bar[1];
         xyz[2] += w * bar[2];
     }
+}
+
+/* XYZ (W m^-2 sr^-1) of the observed spectrum of a blackbody of temperature
+ * t (K) seen with frequency ratio g > 0: the observed spectrum is the
+ * blackbody of g t (cr_bb_observed_lambda), integrated against the table as
+ * cr_cmf_integrate. Overflows (inf) only where the value exceeds the
+ * largest double, g t above about 1e303 K. */
+CR_HD static inline void cr_bb_xyz(double t, double g, double xyz[3])
+{
+    double tg = g * t;
+    int k;
+    cr_bb_xyz_per_t(tg, xyz);
+    for (k = 0; k < 3; k++)
+        xyz[k] = xyz[k] > 0.0 ? xyz[k] * tg : 0.0;
 }
 
 /* Chromaticity x = X / (X + Y + Z), y = Y / (X + Y + Z); (0, 0) for black. */
@@ -279,6 +304,28 @@ CR_HD static inline void cr_srgb_desaturate_to_gamut(double rgb[3])
         rgb[k] = rgb[k] > 0.0 ? rgb[k] : 0.0;
 }
 
+/* Gamut mapping for display: cr_srgb_desaturate_to_gamut, and then, for a
+ * colour that was outside the gamut and came out with green below both red
+ * and blue (a hue on the purple side of a primary), the smaller of red and
+ * blue lowered to green. The deep red of a blackbody below about 800 K lies
+ * just on the purple side of the sRGB red primary as seen from D65;
+ * desaturating it keeps a little blue and no green, which per-channel tone
+ * mapping of a bright pixel turns into magenta (255, 0, 255), a colour no
+ * blackbody has. Lowered, it is the red primary's hue, and bright pixels go
+ * to (255, 0, 0). Colours inside the gamut are unchanged (a 6500 K
+ * blackbody, slightly magenta, stays so). */
+CR_HD static inline void cr_srgb_gamut_map(double rgb[3])
+{
+    int outside = rgb[0] < 0.0 || rgb[1] < 0.0 || rgb[2] < 0.0;
+    cr_srgb_desaturate_to_gamut(rgb);
+    if (outside && rgb[1] < rgb[0] && rgb[1] < rgb[2]) {
+        if (rgb[0] < rgb[2])
+            rgb[0] = rgb[1];
+        else
+            rgb[2] = rgb[1];
+    }
+}
+
 /* Tone mapping, per channel: the extended Reinhard curve (Reinhard et al.
  * 2002, eq. 4) v (1 + v / w^2) / (1 + v), which maps 0 to 0 and the white
  * point w > 0 to 1, is increasing, close to v for v << 1, and compresses
@@ -324,8 +371,9 @@ CR_HD static inline uint8_t cr_unit_to_u8(double e)
 }
 
 /* Linear sRGB (any scale) to an 8-bit pixel: multiply by exposure (> 0; 1
- * maps linear 1 to the tone curve's input 1), desaturate into the gamut,
- * tone-map each channel with white point white, sRGB-encode, round. */
+ * maps linear 1 to the tone curve's input 1), bring into the gamut
+ * (cr_srgb_gamut_map), tone-map each channel with white point white,
+ * sRGB-encode, round. */
 CR_HD static inline cr_rgb cr_linear_srgb_to_rgb8(const double rgb_in[3], double exposure,
                                                   double white)
 {
@@ -334,7 +382,7 @@ CR_HD static inline cr_rgb cr_linear_srgb_to_rgb8(const double rgb_in[3], double
     int k;
     for (k = 0; k < 3; k++)
         rgb[k] = rgb_in[k] * exposure;
-    cr_srgb_desaturate_to_gamut(rgb);
+    cr_srgb_gamut_map(rgb);
     for (k = 0; k < 3; k++)
         rgb[k] = cr_srgb_encode(cr_tonemap_reinhard(rgb[k], white));
     out.r = cr_unit_to_u8(rgb[0]);
