@@ -60,17 +60,27 @@ def _scalar(v):
     raise ValueError("scene: cannot write a %s (%r) as a YAML value" % (type(v).__name__, v))
 
 
-def _yaml(d, indent=0):
+def _yaml(d, indent=0, path="", inside=()):
     """Block YAML of a dict (one key a line, so messages name a line). A list
-    of dicts under a key repeats the key (scene files repeat `sphere:`)."""
+    of dicts under a key repeats the key (scene files repeat `sphere:`).
+    path: the keys above d ("observer."); inside: the ids of the dicts and
+    lists above d, so that one that contains itself is a ValueError naming
+    its key (not a RecursionError)."""
     pad = "  " * indent
     out = []
+    inside = inside + (id(d),)
     for k, v in d.items():
+        key = "%s%s" % (path, k)
+        if isinstance(v, (dict, list, tuple)) and id(v) in inside:
+            raise ValueError("scene: the value of %s contains itself" % key)
         if isinstance(v, dict):
-            out.append("%s%s:\n%s" % (pad, k, _yaml(v, indent + 1)))
+            out.append("%s%s:\n%s" % (pad, k, _yaml(v, indent + 1, key + ".", inside)))
         elif isinstance(v, (list, tuple)) and v and all(isinstance(e, dict) for e in v):
             for e in v:
-                out.append("%s%s:\n%s" % (pad, k, _yaml(e, indent + 1)))
+                if id(e) in inside:
+                    raise ValueError("scene: the value of %s contains itself" % key)
+                out.append("%s%s:\n%s" % (pad, k, _yaml(e, indent + 1, key + ".",
+                                                         inside + (id(v),))))
         elif isinstance(v, (list, tuple, np.ndarray)):
             out.append("%s%s: [%s]\n" % (pad, k, ", ".join(_scalar(e) for e in v)))
         else:
@@ -99,11 +109,20 @@ def _config_text(config, others):
     return _yaml(sections)
 
 
+def _in_c_range(what, v):
+    """An integer argument beyond the C library's 64-bit long is refused
+    here, naming it (the C side would raise OverflowError without a name);
+    within that range the C library checks the real limits."""
+    if not -(2 ** 63) <= int(v) < 2 ** 63:
+        raise ValueError("%s: %d is out of range (beyond 64 bits)" % (what, int(v)))
+
+
 def _common(scene, width, height, frame, frames, config, others="frame, frames"):
     text, is_path, name = _scene_args(scene)
     for what, v in (("width", width), ("height", height), ("frame", frame), ("frames", frames)):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
             raise ValueError("%s: expected an integer, got %r" % (what, v))
+        _in_c_range(what, v)
     return dict(scene=text, is_path=is_path, name=name, config=_config_text(config, others),
                 width=int(width), height=int(height), frame=int(frame), frames=int(frames))
 
@@ -188,6 +207,7 @@ def trace(scene, pixel, width, height, frame=0, frames=1, **config):
     for v in (i, j):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
             raise ValueError("pixel: expected integers (i, j), got %r" % (pixel,))
+        _in_c_range("pixel", v)
     args = _common(scene, width, height, frame, frames, config)
     raw, n, outcome, hit_r, hit_phi, redshift, steps = _curray._trace(i=int(i), j=int(j), **args)
     a = np.frombuffer(raw, dtype="<f8").reshape(n, len(PATH_COLUMNS))

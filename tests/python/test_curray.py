@@ -366,6 +366,43 @@ def test_bad_input_value_error(call):
     assert str(e.value)
 
 
+def _self_containing(where):
+    """A valid scene dict with a dict (or a list of dicts) inside itself."""
+    d = {"metric": {"m": 1, "a": 0, "q": 0},
+         "observer": {"r": 30, "theta": 85, "phi": 0, "hfov": 70}}
+    if where == "dict":
+        d["observer"]["again"] = d["observer"]
+    elif where == "top":
+        d["again"] = d
+    else:
+        spheres = [{"r": 10}]
+        spheres[0]["inner"] = spheres
+        d["sphere"] = spheres
+    return d
+
+
+@pytest.mark.parametrize("call, text", [
+    (lambda: curray.render(DEMO_YAML, 10 ** 30, 8), r"^width: 10{30} is out of range"),
+    (lambda: curray.render(DEMO_YAML, 8, -10 ** 30), r"^height: -10{30} is out of range"),
+    (lambda: curray.render(DEMO_YAML, 8, 8, frame=2 ** 63), r"^frame: \d+ is out of range"),
+    (lambda: curray.render(DEMO_YAML, 8, 8, frames=10 ** 20), r"^frames: 10{20} is out of range"),
+    (lambda: curray.trace(DEMO_YAML, pixel=(10 ** 30, 0), width=8, height=8),
+     r"^pixel: 10{30} is out of range"),
+    (lambda: curray.render(_self_containing("dict"), 8, 8),
+     r"^scene: the value of observer.again contains itself"),
+    (lambda: curray.render(_self_containing("top"), 8, 8),
+     r"^scene: the value of again contains itself"),
+    (lambda: curray.render(_self_containing("list"), 8, 8),
+     r"^scene: the value of sphere.inner contains itself"),
+])
+def test_value_error_names_parameter(call, text):
+    """Integers beyond a C long and a dict that contains itself are a
+    ValueError naming the parameter or key (were OverflowError and
+    RecursionError)."""
+    with pytest.raises(ValueError, match=text):
+        call()
+
+
 def test_value_error_names_key_and_line():
     with pytest.raises(ValueError, match=r"tolerance"):
         curray.render(DEMO_YAML, 8, 8, tolerance=0)
