@@ -2,7 +2,7 @@
 """Plot a few ray paths around a Kerr black hole and the redshift map of the
 same view, with curray's Python package and matplotlib.
 
-    pip install ./python            # once (see README "Python")
+    pip install "./python[plot]"    # once (see docs/python.md)
     python3 docs/plot_rays.py [output folder]   # default: docs/
 
 Writes ray_paths.png (the rays of one image row, seen from above the hole

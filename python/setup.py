@@ -6,11 +6,16 @@ so ``pip install ./python`` needs the repository around this folder and the
 libraries the command line links: libyaml, libpng, zlib (Debian:
 libyaml-dev libpng-dev zlib1g-dev; tools/install-deps.sh installs them).
 
-The CUDA backend (src/render/gpu.cu) goes in when nvcc is found, as in the
-CMake build; environment variables choose otherwise:
+The CUDA backend (src/render/gpu.cu) goes in, as in the CMake build's
+CURRAY_CUDA=AUTO, when nvcc is found and this machine has an NVIDIA driver
+(so pip spends no nvcc time where no GPU can run it); environment variables
+choose otherwise:
   CURRAY_CUDA=0      the CPU only (src/render/gpu_stub.c: backend="cuda" says
-                     the build has no CUDA); =1: CUDA or fail; unset: nvcc
-                     when found (PATH, $CUDA_HOME/bin, /usr/local/cuda/bin)
+                     the build has no CUDA); =1: CUDA whenever nvcc is found,
+                     or fail; unset or auto: nvcc (PATH, $CUDA_HOME/bin,
+                     /usr/local/cuda/bin) and a driver (/proc/driver/nvidia/
+                     version, else libcuda.so.1 known to the loader)
+  CURRAY_NVIDIA_DRIVER_FILE  the file that stands for the driver (tests)
   CURRAY_CUDA_ARCHS  "80;90" (the default, CMake's): SASS for each, PTX for
                      the newest
   CURRAY_GPU_LIB     a libcurray_gpu.a built by CMake with CUDA (position-
@@ -115,6 +120,47 @@ def cuda_archs():
     return flags, config
 
 
+def find_driver():
+    """Where an NVIDIA driver shows, or None: the kernel module's version file
+    (CURRAY_NVIDIA_DRIVER_FILE stands in for it), else the driver library
+    libcuda.so.1 that the loader can open. (Not ctypes.util.find_library:
+    it also finds the toolkit's stubs/libcuda.so, which runs nothing.)"""
+    f = os.environ.get("CURRAY_NVIDIA_DRIVER_FILE", "/proc/driver/nvidia/version")
+    if os.path.exists(f):
+        return f
+    if "CURRAY_NVIDIA_DRIVER_FILE" in os.environ:
+        return None
+    import ctypes
+    try:
+        ctypes.CDLL("libcuda.so.1")
+    except OSError:
+        return None
+    return "libcuda.so.1"
+
+
+def cuda_choice(want, lib, nvcc, driver):
+    """(compile or link CUDA?, why) from CURRAY_CUDA (None: auto, True, False),
+    CURRAY_GPU_LIB, nvcc's path and the driver's (None when not found); the
+    why is the one line setup.py prints. Raises SystemExit when CUDA is asked
+    for (CURRAY_CUDA=1 or CURRAY_GPU_LIB) but nvcc is missing."""
+    if want is False:
+        return False, "CURRAY_CUDA=0"
+    if (want or lib) and not nvcc:
+        raise SystemExit("curray setup.py: CURRAY_CUDA=1 or CURRAY_GPU_LIB but nvcc (and "
+                         "its CUDA runtime) was not found (PATH, $CUDA_HOME/bin, "
+                         "/usr/local/cuda/bin)")
+    if want:
+        return True, "CURRAY_CUDA=1"
+    if lib:
+        return True, "CURRAY_GPU_LIB=%s" % lib
+    if not nvcc:
+        return False, "nvcc not found"
+    if not driver:
+        return False, ("CURRAY_CUDA unset: nvcc found (%s) but no NVIDIA driver on this machine; "
+                       "CURRAY_CUDA=1 builds it anyway" % nvcc)
+    return True, "CURRAY_CUDA unset: nvcc and an NVIDIA driver (%s) found" % driver
+
+
 class BuildExt(build_ext):
     """Adds the repository's C sources (outside this folder, so absolute
     paths, which setuptools refuses in setup() arguments) at build time, and
@@ -125,10 +171,12 @@ class BuildExt(build_ext):
         want = env_switch("CURRAY_CUDA")
         lib = os.environ.get("CURRAY_GPU_LIB")
         nvcc = find_nvcc() if want is not False else None
-        if (want or lib) and want is not False and not nvcc:
-            raise SystemExit("curray setup.py: CURRAY_CUDA=1 or CURRAY_GPU_LIB but nvcc (and "
-                             "its CUDA runtime) was not found (PATH, $CUDA_HOME/bin, "
-                             "/usr/local/cuda/bin)")
+        use, why = cuda_choice(want, lib, nvcc,
+                               find_driver() if nvcc and want is None and not lib else None)
+        print("curray: CUDA backend: %s (%s)" % ("built" if use else "not built, CPU backend only",
+                                                 why))
+        if not use:
+            nvcc = None
         if nvcc and lib:
             e.extra_objects = list(e.extra_objects) + [os.path.abspath(lib)]
         elif nvcc:

@@ -15,8 +15,13 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-build-static}
 case $build in /*) ;; *) build=$root/$build ;; esac
 
+# The binary is for GPU machines, so the CUDA backend goes in whenever nvcc
+# is here, whether or not this machine has a driver (CMake's AUTO would leave
+# it out); CMAKE_ARGS may still say -DCURRAY_CUDA=OFF.
+cuda=AUTO
+if command -v nvcc >/dev/null || [ -x /usr/local/cuda/bin/nvcc ]; then cuda=ON; fi
 # shellcheck disable=SC2086 # CMAKE_ARGS is a list of options
-cmake -S "$root" -B "$build" -DCURRAY_STATIC=ON -DCMAKE_BUILD_TYPE=Release ${CMAKE_ARGS:-}
+cmake -S "$root" -B "$build" -DCURRAY_STATIC=ON -DCMAKE_BUILD_TYPE=Release -DCURRAY_CUDA=$cuda ${CMAKE_ARGS:-}
 cmake --build "$build" -j"$(nproc 2>/dev/null || echo 2)" --target curray
 
 echo "ldd $build/curray:"

@@ -48,7 +48,7 @@ bdir=$root/build-gpu-check
 build_variant() { # NAME MAXRREG SOURCE TARGETS...
     local name=$1 rreg=$2 src=$3
     shift 3
-    cmake -S "$src" -B "$bdir/$name" -DCMAKE_BUILD_TYPE=Release -DCURRAY_STATIC=ON \
+    cmake -S "$src" -B "$bdir/$name" -DCMAKE_BUILD_TYPE=Release -DCURRAY_STATIC=ON -DCURRAY_CUDA=ON \
         -DCURRAY_CUDA_ARCHS=90 -DCURRAY_CUDA_MAXRREG="$rreg" -DCURRAY_CUDA_PTXAS_VERBOSE=ON \
         -DCURRAY_TESTS=ON >"$bdir/$name.cmake.log" 2>&1 || {
         cat "$bdir/$name.cmake.log"

@@ -10,7 +10,7 @@
 #include "../output/fits.h"
 #include "../input/sysconfig.h"
 
-enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS, OPT_RESUME, OPT_TRACE };
+enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS, OPT_RESUME, OPT_TRACE, OPT_EXAMPLE };
 
 static int cr_parse_bool(const char *s, int *out)
 {
@@ -48,7 +48,7 @@ void cr_cli_usage(const char *prog, FILE *out)
             "          [-f <frames>] [-t <output types>] [-c <system configuration>]\n"
             "          [-v <true/false>] [-q <true/false>] [-a <true/false>]\n"
             "          [--backend auto|cpu|cuda] [--threads N] [--resume] [--trace I,J]\n"
-            "          [-i] [-h] [--version] [--]\n"
+            "          [-i] [-h] [--version] [--example] [--]\n"
             "\n"
             "  -s, --scene_file FILE   scene to render (YAML, see README)\n"
             "  -o, --output_dir DIR    where outputs go (created if missing)\n"
@@ -76,6 +76,8 @@ void cr_cli_usage(const char *prog, FILE *out)
             "  -i, --info              list CUDA devices\n"
             "  -h, --help              this help\n"
             "      --version           print the version\n"
+            "      --example           print a complete, commented scene to start from\n"
+            "                          (curray --example > my.yml)\n"
             "  --                      ignore the rest of the command line\n",
             prog, CR_SYSCONFIG_MAX_THREADS);
 }
@@ -100,6 +102,7 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
         {"threads", required_argument, 0, OPT_THREADS},
         {"resume", no_argument, 0, OPT_RESUME},
         {"trace", required_argument, 0, OPT_TRACE},
+        {"example", no_argument, 0, OPT_EXAMPLE},
         {0, 0, 0, 0}};
     int opt;
     memset(c, 0, sizeof *c);
@@ -166,6 +169,7 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
         case 'i': c->info = 1; break;
         case 'h': c->help = 1; break;
         case OPT_VERSION: c->version = 1; break;
+        case OPT_EXAMPLE: c->example = 1; break;
         case OPT_RESUME: c->resume = 1; break;
         case OPT_BACKEND:
             if (strcmp(optarg, "auto") == 0)

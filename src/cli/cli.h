@@ -23,6 +23,7 @@ typedef struct cr_cli {
     const char *config_path; /* -c, NULL = config.yml when present */
     int verbose, quiet, auto_accept;
     int info, help, version;
+    int example;             /* --example: print a scene to start from */
     cr_backend_choice backend;
     long threads;            /* --threads, 0 = from the configuration */
     int trace;               /* --trace i,j given: trace that pixel's path, no image */

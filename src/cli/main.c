@@ -35,6 +35,7 @@
 #include "../output/video.h"
 #include "cli.h"
 #include "crash.h"
+#include "example.h"
 #include "interrupt.h"
 #include "../render/mpi.h"
 #include "lock.h"
@@ -550,6 +551,10 @@ static int cr_command_line(cr_run *run, int *rc)
     }
     if (run->cli.version) {
         printf("curray %s\n", CURRAY_VERSION);
+        return -1;
+    }
+    if (run->cli.example) {
+        fputs(cr_example_scene, stdout);
         return -1;
     }
     if (run->cli.info) {

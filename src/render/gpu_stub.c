@@ -1,8 +1,9 @@
 /* The CUDA backend's interface in a build without CUDA. */
 #include "gpu.h"
 
-#define CR_GPU_NO_CUDA "this build of curray has no CUDA support (nvcc was not found when it " \
-                       "was built, or CURRAY_CUDA was OFF)"
+#define CR_GPU_NO_CUDA "this build of curray has no CUDA support (built without nvcc, or " \
+                       "without an NVIDIA driver under CURRAY_CUDA=AUTO, or with CURRAY_CUDA=OFF; " \
+                       "-DCURRAY_CUDA=ON builds it)"
 
 int cr_gpu_built(void)
 {
@@ -33,7 +34,8 @@ int cr_gpu_usable(int device, cr_err *err)
 void cr_gpu_print_info(FILE *out)
 {
     fprintf(out, "CUDA GPU information:\n\nThis build of curray has no CUDA support "
-                 "(nvcc was not found when it was built, or CURRAY_CUDA was OFF); it renders "
+                 "(built without nvcc, or without an NVIDIA driver under CURRAY_CUDA=AUTO, "
+                 "or with CURRAY_CUDA=OFF; -DCURRAY_CUDA=ON builds it); it renders "
                  "on the CPU.\n");
 }
 
