@@ -6,7 +6,12 @@
  * is the process's CPU time too) and the steps, so that a loaded machine can
  * be read by CPU time.
  *
- * Usage: web_bench demo|kerr W H runs
+ * With "look" as the first argument it times cr_web_reproject instead: a
+ * W x H view (the demo's observer, field of view 70 deg) from a 1024 x 512
+ * equirectangular sky, one frame per yaw 0..runs-1 deg; per frame the wall
+ * and CPU time in ms.
+ *
+ * Usage: web_bench demo|kerr|look W H runs
  *   demo: scenes/demo.yml (the page's start-up scene)
  *   kerr: a = 0.9 seen from r = 30 at 84 deg, keplerian disc to 18 M */
 #include <stdio.h>
@@ -36,6 +41,36 @@ int main(int argc, char **argv)
         return 1;
     cr_web_set(s, "metric.m", 1);
     cr_web_set(s, "observer.phi", 0);
+    if (!strcmp(name, "look")) {
+        cr_web *sky = cr_web_new();
+        uint8_t *srgba = malloc(4 * 1024 * 512), *vrgba = malloc(4 * (size_t)n);
+        if (!sky || !srgba || !vrgba)
+            return 1;
+        for (k = 0; k < 4 * 1024 * 512; k++)
+            srgba[k] = (uint8_t)(k * 7);
+        cr_web_set(sky, "metric.m", 1);
+        cr_web_set(sky, "observer.r", 30);
+        cr_web_set(sky, "observer.theta", 85);
+        cr_web_set(sky, "observer.phi", 0);
+        cr_web_set_word(sky, "observer.projection", "equirectangular");
+        cr_web_set(s, "observer.r", 30);
+        cr_web_set(s, "observer.theta", 85);
+        cr_web_set(s, "observer.hfov", 70);
+        if (cr_web_frame(sky, 1024, 512))
+            return 1;
+        printf("look %dx%d from 1024x512\n", w, h);
+        for (r = 0; r < runs; r++) {
+            double t0, c0;
+            cr_web_set(s, "observer.yaw", r);
+            t0 = now(CLOCK_MONOTONIC);
+            c0 = now(CLOCK_PROCESS_CPUTIME_ID);
+            if (cr_web_frame(s, w, h) || cr_web_reproject(s, sky, srgba, vrgba, runs < 0 ? 1 : CR_WEB_LOOK_CELL))
+                return 1;
+            printf("frame %d wall_ms %.2f cpu_ms %.2f\n", r, 1e3 * (now(CLOCK_MONOTONIC) - t0),
+                   1e3 * (now(CLOCK_PROCESS_CPUTIME_ID) - c0));
+        }
+        return 0;
+    }
     if (!strcmp(name, "demo")) {
         cr_web_set(s, "observer.r", 30);
         cr_web_set(s, "observer.theta", 85);

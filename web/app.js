@@ -416,6 +416,7 @@ class CrApp {
     const msg = this.lookSky.frame(SW, SH);
     if (msg) { this.el('look-status').textContent = msg; return; }
     this.skyRgba = new Uint8Array(4 * SW * SH);
+    this.skyDirty = true;
     this.el('look-status').textContent = 'tracing the sky for looking around...';
     this.skyRenderer.start(s, this.sky, SW, SH, CR_STEPS);
   }
@@ -439,7 +440,7 @@ class CrApp {
       requestAnimationFrame(() => { this.frameQueued = false; if (!this.dragging) this.ctx.putImageData(this.image, 0, 0); });
     }
   }
-  paintSky(r, pix, s) { this.paintBlocks(r, pix, s, this.skyRgba, this.view); }
+  paintSky(r, pix, s) { this.paintBlocks(r, pix, s, this.skyRgba, this.view); this.skyDirty = true; }
   repaintAll() {
     const r = this.renderer;
     if (!r.rgb || !this.image) return;
@@ -454,6 +455,7 @@ class CrApp {
       for (let p = 0; p < q.level.length; p++) if (q.level[p] !== 255) sk.push(p);
       sk.sort((a, b) => q.level[b] - q.level[a]);
       for (const p of sk) this.paintBlocks(q, [p], q.level[p], this.skyRgba, this.view);
+      this.skyDirty = true;
     }
   }
 
@@ -516,8 +518,10 @@ class CrApp {
     if (this.lookView.frame(W, H)) return -1;
     const [SW, SH] = CR_SKY_SIZE;
     if (this.lookSky.width() !== SW) return -1;
-    const out = this.lookImage && this.lookImage.width === W && this.lookImage.height === H ? this.lookImage : (this.lookImage = this.ctx.createImageData(W, H));
-    if (!this.core.reproject(this.lookView, this.lookSky, this.skyRgba, out.data)) return -1;
+    const out = this.core.reproject(this.lookView, this.lookSky, this.skyRgba, this.skyDirty);
+    this.skyDirty = false;
+    if (!out) return -1;
+    this.lookImage = out;
     if (this.canvas.width !== W) { this.canvas.width = W; this.canvas.height = H; }
     this.ctx.putImageData(out, 0, 0);
     const ms = performance.now() - t0;

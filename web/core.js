@@ -89,13 +89,22 @@ function crCore(module) {
     };
   }
   // view's pixels looked up in sky's (an equirectangular frame of the same
-  // observer), sky_rgba its RGBA image; out: RGBA of view's size
-  function reproject(view, sky, skyRgba, out) {
-    const pSky = get('lsky', skyRgba.length), pOut = get('lout', out.length);
-    new Uint8Array(x.memory.buffer, pSky, skyRgba.length).set(skyRgba);
-    if (x.cr_web_reproject(view.handle, sky.handle, pSky, pOut)) return false;
-    out.set(new Uint8Array(x.memory.buffer, pOut, out.length));
-    return true;
+  // observer), skyRgba its RGBA image (copied into the core only when
+  // skyChanged); cell: the interpolation cell (web.h: CR_WEB_LOOK_CELL = 8,
+  // 1 exact everywhere). Returns an ImageData of view's size over the core's
+  // memory (valid until the next call into this core), or null.
+  let skyLen = 0;
+  function reproject(view, sky, skyRgba, skyChanged, cell) {
+    const W = view.width(), H = view.height(), n = 4 * W * H;
+    if (!W || !H) return null;
+    const pSky = get('lsky', skyRgba.length);
+    if (skyChanged || skyLen !== skyRgba.length) {
+      new Uint8Array(x.memory.buffer, pSky, skyRgba.length).set(skyRgba);
+      skyLen = skyRgba.length;
+    }
+    const pOut = get('lout', n);
+    if (x.cr_web_reproject(view.handle, sky.handle, pSky, pOut, cell || 8)) return null;
+    return new ImageData(new Uint8ClampedArray(x.memory.buffer, pOut, n), W, H);
   }
   return { scene, reproject };
 }

@@ -457,32 +457,126 @@ int cr_web_probe(const cr_web *w, double x, double y, double *out)
     return 0;
 }
 
+/* Where view pixel (i, j) is seen in the equirectangular sky frame fs, in
+ * fractional sky pixels: 1, or 0 where the view shows nothing there. */
+static int look_map(const cr_frame *fv, const cr_frame *fs, double i, double j, double *si,
+                    double *sj)
+{
+    double n[3];
+    if (!cr_camera_in_image(fv, i, j))
+        return 0;
+    cr_camera_pixel_dir(fv, i, j, n);
+    return cr_camera_dir_pixel(fs, n, si, sj);
+}
+
+/* The sky's pixel nearest to (si, sj) (halves rounded up) into o, black
+ * where ok is 0: azimuth wraps around (si within one turn of the image;
+ * beyond that, column 0), the poles clamp. */
+static void look_copy(const cr_frame *fs, const uint8_t *sky_rgba, int ok, double si, double sj,
+                      uint8_t *o)
+{
+    long x, y;
+    if (!ok) {
+        o[0] = o[1] = o[2] = 0;
+        o[3] = 255;
+        return;
+    }
+    /* si > -width, so the truncation of si + 0.5 + width is its floor */
+    x = si > -fs->width && si < 2.0 * fs->width ? (long)(si + 0.5 + fs->width) - fs->width : 0;
+    x = x < 0 ? x + fs->width : (x >= fs->width ? x - fs->width : x);
+    x = x < 0 ? 0 : (x >= fs->width ? fs->width - 1 : x);
+    y = sj > 0.0 ? (sj < fs->height ? (long)(sj + 0.5) : fs->height - 1) : 0;
+    y = y >= fs->height ? fs->height - 1 : y;
+    sky_rgba += 4 * ((size_t)y * fs->width + x);
+    o[0] = sky_rgba[0];
+    o[1] = sky_rgba[1];
+    o[2] = sky_rgba[2];
+    o[3] = sky_rgba[3];
+}
+
+/* Cells of cell x cell view pixels (web.h): the camera mapping (look_map)
+ * is evaluated at their corners and centre, and interpolated bilinearly
+ * inside when the interpolated centre lies within CR_WEB_LOOK_TOL sky pixels
+ * of the exact one (the mapping is smooth there: everywhere but near a pole
+ * and a fisheye's rim); otherwise, or when a corner shows nothing, every
+ * pixel of the cell is mapped exactly. cell = 1 maps every pixel exactly. */
+#define CR_WEB_LOOK_TOL 0.1
+
 int cr_web_reproject(const cr_web *view, const cr_web *sky, const uint8_t *sky_rgba,
-                     uint8_t *out_rgba)
+                     uint8_t *out_rgba, int cell)
 {
     const cr_frame *fv = &view->frame, *fs = &sky->frame;
-    int i, j;
+    const int W = fv->width, H = fv->height;
+    const int C = cell > 1 && W > 1 && H > 1 ? cell : 1;
+    int gw, gh, gi, gj, i, j;
+    double *node;
     if (!view->ready || !sky->ready || fs->observer.projection != CR_PROJ_EQUIRECT ||
         fv->obs_at_inf)
         return -1;
-    for (j = 0; j < fv->height; j++)
-        for (i = 0; i < fv->width; i++) {
-            uint8_t *o = out_rgba + 4 * ((size_t)j * fv->width + i);
-            double n[3], si, sj;
-            long x, y;
-            o[0] = o[1] = o[2] = 0;
-            o[3] = 255;
-            if (!cr_camera_in_image(fv, i, j))
-                continue;
-            cr_camera_pixel_dir(fv, i, j, n);
-            if (!cr_camera_dir_pixel(fs, n, &si, &sj))
-                continue;
-            /* nearest pixel; azimuth wraps around, the poles clamp */
-            x = lround(si) % fs->width;
-            x = x < 0 ? x + fs->width : x;
-            y = lround(sj);
-            y = y < 0 ? 0 : (y >= fs->height ? fs->height - 1 : y);
-            memcpy(o, sky_rgba + 4 * ((size_t)y * fs->width + x), 4);
+    if (C == 1) {
+        for (j = 0; j < H; j++)
+            for (i = 0; i < W; i++) {
+                double si, sj;
+                int ok = look_map(fv, fs, i, j, &si, &sj);
+                look_copy(fs, sky_rgba, ok, si, sj, out_rgba + 4 * ((size_t)j * W + i));
+            }
+        return 0;
+    }
+    gw = (W - 1 + C - 1) / C + 1; /* nodes at 0, C, 2C, ..., and W - 1 */
+    gh = (H - 1 + C - 1) / C + 1;
+    node = malloc(sizeof *node * 3 * (size_t)gw * (size_t)gh);
+    if (!node)
+        return -1;
+    for (gj = 0; gj < gh; gj++)
+        for (gi = 0; gi < gw; gi++) {
+            double *q = node + 3 * ((size_t)gj * gw + gi);
+            int x = gi * C < W ? gi * C : W - 1, y = gj * C < H ? gj * C : H - 1;
+            q[2] = look_map(fv, fs, x, y, &q[0], &q[1]);
         }
+    for (gj = 0; gj + 1 < gh; gj++)
+        for (gi = 0; gi + 1 < gw; gi++) {
+            const double *q00 = node + 3 * ((size_t)gj * gw + gi), *q10 = q00 + 3,
+                         *q01 = q00 + 3 * (size_t)gw, *q11 = q01 + 3;
+            int x0 = gi * C, y0 = gj * C;
+            int x1 = x0 + C < W ? x0 + C : W - 1, y1 = y0 + C < H ? y0 + C : H - 1;
+            /* the corners' azimuth unwrapped to the first corner's */
+            double u[4] = {q00[0], q10[0], q01[0], q11[0]};
+            double half = 0.5 * fs->width, ci, cj;
+            int k, exact = !(q00[2] && q10[2] && q01[2] && q11[2]);
+            for (k = 1; k < 4 && !exact; k++)
+                u[k] += u[k] - u[0] > half ? -fs->width : (u[0] - u[k] > half ? fs->width : 0);
+            if (!exact) {
+                double mi = 0.5 * (x0 + x1), mj = 0.5 * (y0 + y1);
+                double bi = 0.25 * (u[0] + u[1] + u[2] + u[3]);
+                double bj = 0.25 * (q00[1] + q10[1] + q01[1] + q11[1]);
+                exact = !look_map(fv, fs, mi, mj, &ci, &cj);
+                if (!exact) {
+                    double d = ci - bi;
+                    d -= fs->width * floor(d / fs->width + 0.5); /* azimuth difference */
+                    exact = !(fabs(d) <= CR_WEB_LOOK_TOL && fabs(cj - bj) <= CR_WEB_LOOK_TOL);
+                }
+            }
+            /* the cell's pixels [x0, x1) x [y0, y1), plus the last column and row */
+            for (j = y0; j < (y1 == H - 1 ? H : y1); j++) {
+                double fy = y1 > y0 ? (double)(j - y0) / (y1 - y0) : 0.0;
+                double li = (1 - fy) * u[0] + fy * u[2], lj = (1 - fy) * q00[1] + fy * q01[1];
+                double di = (1 - fy) * u[1] + fy * u[3] - li;
+                double dj = (1 - fy) * q10[1] + fy * q11[1] - lj;
+                double inv = x1 > x0 ? 1.0 / (x1 - x0) : 0.0;
+                for (i = x0; i < (x1 == W - 1 ? W : x1); i++) {
+                    uint8_t *o = out_rgba + 4 * ((size_t)j * W + i);
+                    double si, sj, fx = (i - x0) * inv;
+                    int ok = 1;
+                    if (exact) {
+                        ok = look_map(fv, fs, i, j, &si, &sj);
+                    } else {
+                        si = li + fx * di;
+                        sj = lj + fx * dj;
+                    }
+                    look_copy(fs, sky_rgba, ok, si, sj, o);
+                }
+            }
+        }
+    free(node);
     return 0;
 }

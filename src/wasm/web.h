@@ -98,12 +98,20 @@ int cr_web_probe(const cr_web *w, double x, double y, double *out);
 /* Look around without tracing: fill out_rgba (width x height of view's
  * frame, RGBA) with the colour that view's pixel (i, j) sees in sky_rgba,
  * the RGBA image of an evaluated equirectangular frame sky of the same
- * observer (sky_w x sky_h, its frame's size), nearest pixel. view's frame
- * gives the projection, fields of view and camera angles; both frames must
- * hold the same observer position and motion (the caller's contract).
- * Returns 0, or -1 when a frame is missing or sky is not equirectangular. */
+ * observer (its frame's size), nearest sky pixel; black where the view shows
+ * nothing. view's frame gives the projection, fields of view and camera
+ * angles; both frames must hold the same observer position and motion (the
+ * caller's contract). The camera mapping (cr_camera_pixel_dir, then
+ * cr_camera_dir_pixel) is exact at the corners and centre of cells of
+ * cell x cell pixels and bilinear inside, where that is within 0.1 sky
+ * pixels of exact at the centre (else exact in the whole cell); cell <= 1:
+ * exact at every pixel. Returns 0, or -1 when a frame is missing, sky is not
+ * equirectangular, view is at infinity, or out of memory. */
 int cr_web_reproject(const cr_web *view, const cr_web *sky, const uint8_t *sky_rgba,
-                     uint8_t *out_rgba);
+                     uint8_t *out_rgba, int cell);
+
+/* The cell size the page reprojects with (cr_web_reproject). */
+#define CR_WEB_LOOK_CELL 8
 
 /* The evaluated frame's size, 0 without one. */
 int cr_web_width(const cr_web *w);
