@@ -7,6 +7,8 @@
 # engine of Chromium). Rounds interleave the variants; the table gives the
 # median over rounds x runs of the CPU time per ray (process CPU time: a
 # loaded machine inflates wall time, not this) and its ratio to native.
+# Then the same for looking around (web_bench look: cr_web_reproject of a
+# 1280x720 view from a 1024x512 sky, 20 frames).
 # Usage: bench/web.sh [BUILD_DIR] [rounds] [W H]   (default build 3 320 180)
 # The browser figures (workers, preview, refinement, looking around) are
 # bench/web_page.py's.
@@ -22,7 +24,7 @@ wflags="$flags -ffunction-sections -fdata-sections -Wl,--gc-sections -isystem $b
 # shellcheck disable=SC2086
 gcc -O3 -DNDEBUG $flags $src $host -lyaml -lpng -lm -o "$out/native"
 variants="native"
-for v in "O2:-O2" "O3:-O3" "O3-simd:-O3 -msimd128"; do
+for v in "O2:-O2" "O3:-O3" "O3-simd:-O3 -msimd128 -mnontrapping-fptoint"; do
   name=${v%%:*} opt=${v#*:}
   # shellcheck disable=SC2086
   clang --target=wasm32-wasi $opt $wflags $src -o "$out/wasi-$name.wasm" && variants="$variants wasi-$name"
@@ -66,5 +68,21 @@ for scene in demo kerr; do
   if [ "$(awk '{print $4}' "$out/$scene.txt" | sort -u | wc -l)" != 1 ]; then
     echo "the builds traced different images"; exit 1
   fi
+done
+# looking around: one 1280x720 reprojection from the 1024x512 sky, ms a frame
+echo
+echo "looking around, 1280x720 from 1024x512, 20 frames; ms a frame (median)"
+printf '%-12s %10s %10s\n' variant wall cpu
+for v in $variants; do
+  run_look() {
+    case $1 in
+      native) "$out/native" look 1280 720 20 ;;
+      wasi-*) node --no-warnings tests/web/run_wasi.mjs "$out/$1.wasm" look 1280 720 20 ;;
+      emcc-*) node --no-experimental-fetch "$out/$1.js" look 1280 720 20 ;;
+    esac
+  }
+  run_look "$v" | awk '/^frame/ {print $4, $6}' | sort -n -k2 |
+    awk -v v="$v" '{w[NR] = $1; c[NR] = $2} END {m = int((NR + 1) / 2);
+      printf "%-12s %10.1f %10s\n", v, w[m], v ~ /^emcc/ ? "-" : sprintf("%.1f", c[m])}'
 done
 echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
