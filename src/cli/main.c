@@ -1130,7 +1130,8 @@ static int cr_check_folder(cr_run *run, cr_err *err)
                     run->cli.output_type, run->use_cuda, video, run->hash, err))
         return -1;
     run->info.hash = run->hash;
-    if (cr_dirlock_take(&run->dirlock, dir, err) < 0) /* 1: no folder yet, taken once made */
+    if (cr_dirlock_take(&run->dirlock, dir, err) < 0 || /* 1: no folder yet, taken once made */
+        (cr_has_type(run, 'i') && cr_info_path_check(dir, err)))
         return -1;
     n = cr_stale_scan(dir, (int)run->cli.frames, run->frame_types, &run->stale);
     if (n < 0)

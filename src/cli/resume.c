@@ -270,6 +270,19 @@ static int cr_record_frame(const char *p, int frames)
     return (int)k;
 }
 
+int cr_info_path_check(const char *dir, cr_err *err)
+{
+    char path[4096];
+    struct stat st;
+    if (cr_path_join(path, sizeof path, dir, "info.txt") != 0 || lstat(path, &st) != 0 ||
+        !S_ISDIR(st.st_mode))
+        return 0;
+    return cr_err_set(err,
+                      "%s is a folder, where this run writes its summary info.txt; move it "
+                      "away, or choose another output folder with -o",
+                      path);
+}
+
 int cr_resume_load(cr_resume *r, const char *dir, const char *hash, int frames, cr_err *err)
 {
     char path[4096], *text, *p, *line;

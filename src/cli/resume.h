@@ -43,6 +43,10 @@ int cr_run_hash(const cr_scene *scene, const cr_sysconfig *cfg, long width, long
                 long frames, const char *types, int use_cuda, const char *extra, char out[17],
                 cr_err *err);
 
+/* dir/info.txt is a folder (which info.txt cannot replace): -1 with err
+ * naming it, before anything is rendered; else 0. */
+int cr_info_path_check(const char *dir, cr_err *err);
+
 /* The frames an earlier run finished, from dir/info.txt. */
 typedef struct cr_resume {
     int frames;     /* the run's frame count */

@@ -824,6 +824,22 @@ static int eval(cr_anim v, int k, int n, double *out)
     return isfinite(*out) ? 0 : -1;
 }
 
+/* v in buf with the fewest significant digits, 6 (as %g) to 17, that put
+ * the printed number on the same side of limit as v, so that a message
+ * comparing the two never reads "hfov = 360 deg ... at most 360". */
+static const char *num_vs(char buf[32], double v, double limit)
+{
+    int p;
+    for (p = 6; p <= 17; p++) {
+        double back;
+        snprintf(buf, 32, "%.*g", p, v);
+        back = strtod(buf, NULL);
+        if ((back > limit) == (v > limit) && (back < limit) == (v < limit))
+            break;
+    }
+    return buf;
+}
+
 /* The largest field of view of the flat (rectilinear) screen: at 170 deg the
  * centre tenth of the image already spans only +-30 deg, and towards 180 deg
  * the whole picture collapses into the centre pixel (hfov: 179 looks empty). */
@@ -831,17 +847,18 @@ static int eval(cr_anim v, int k, int n, double *out)
 
 static int check_fov(const char *key, double v, const cr_scene *s, int k, int n, cr_err *err)
 {
+    char b[32];
     if (!(v > 0.0 && v < CR_PI))
         return frame_fail(err, s, k, n,
-                          "observer.%s = %g deg: a field of view must lie between 0 and 180 deg "
+                          "observer.%s = %s deg: a field of view must lie between 0 and 180 deg "
                           "(both excluded)",
-                          key, DEG(v));
+                          key, num_vs(b, DEG(v), v > 0.0 ? 180.0 : 0.0));
     if (DEG(v) > CR_MAX_FOV_DEG)
         return frame_fail(err, s, k, n,
-                          "observer.%s = %g deg: the flat screen cannot show more than %g deg "
+                          "observer.%s = %s deg: the flat screen cannot show more than %g deg "
                           "(the picture collapses into its centre); use a smaller field of view "
                           "(30 to 90 deg shows the hole and its surroundings)",
-                          key, DEG(v), CR_MAX_FOV_DEG);
+                          key, num_vs(b, DEG(v), CR_MAX_FOV_DEG), CR_MAX_FOV_DEG);
     return 0;
 }
 
@@ -877,12 +894,13 @@ static int frame_metric(const cr_scene *s, int k, int n, cr_metric *mt, cr_err *
 static int check_fisheye_fov(const char *key, double v, const cr_scene *s, int k, int n,
                              cr_err *err)
 {
+    char b[32];
     if (!(v > 0.0 && v <= CR_TWO_PI * (1.0 + 1e-12)))
         return frame_fail(err, s, k, n,
-                          "observer.%s = %g deg: a fisheye's field of view must lie above 0 and "
+                          "observer.%s = %s deg: a fisheye's field of view must lie above 0 and "
                           "at most 360 deg (360 shows every direction; for a full panorama "
                           "use projection: equirectangular)",
-                          key, DEG(v));
+                          key, num_vs(b, DEG(v), v > 0.0 ? 360.0 : 0.0));
     return 0;
 }
 
@@ -911,11 +929,13 @@ static int frame_motion(const cr_scene *s, int k, int n, const cr_metric *mt,
     }
     if (o->motion == CR_MOTION_VELOCITY) {
         speed = sqrt(o->v[0] * o->v[0] + o->v[1] * o->v[1] + o->v[2] * o->v[2]);
-        if (!(speed < 1.0))
+        if (!(speed < 1.0)) {
+            char b[32];
             return frame_fail(err, s, k, n,
-                              "observer.motion = [%g, %g, %g]: the speed |v| = %.9g must be "
+                              "observer.motion = [%g, %g, %g]: the speed |v| = %s must be "
                               "below 1 (the speed of light)",
-                              o->v[0], o->v[1], o->v[2], speed);
+                              o->v[0], o->v[1], o->v[2], num_vs(b, speed, 1.0));
+        }
         if (on_axis && (o->v[1] != 0.0 || o->v[2] != 0.0))
             return frame_fail(err, s, k, n,
                               "observer.motion = [%g, %g, %g]: on the polar axis (theta = %g "

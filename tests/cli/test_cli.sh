@@ -423,10 +423,32 @@ scene "projection: unknown" 1 "observer.projection: unknown projection \"cubemap
     "$KERR"$'observer: {r: 10, theta: 90, phi: 0, hfov: 60, projection: cubemap}\n'
 scene "projection: fisheye over 360 deg" 1 "observer.hfov = 400 deg: a fisheye's field of view must lie above 0 and at most 360 deg" \
     "$KERR"$'observer: {r: 10, theta: 90, phi: 0, hfov: 400, projection: fisheye}\n'
+# a value just past a limit is printed with the digits that show it is past
+# (with %g: "hfov = 360 deg ... at most 360", "|v| = 1 must be below 1")
+scene "fisheye just over 360 deg: enough digits" 1 "observer.hfov = 360.0000001 deg: a fisheye's field of view must lie above 0 and at most 360 deg" \
+    "$KERR"$'observer: {r: 10, theta: 90, phi: 0, hfov: 360.0000001, projection: fisheye}\n'
+scene "hfov just over 170 deg: enough digits" 1 "observer.hfov = 170.0000001 deg: the flat screen cannot show more than 170 deg" \
+    "$KERR"$'observer: {r: 10, theta: 90, phi: 0, hfov: 170.0000001}\n'
+scene "speed just over 1: enough digits" 1 "observer.motion = [0.6, 0.8, 1e-05]: the speed |v| = 1.0000000001 must be below 1" \
+    "$KERR"$'observer: {r: 20, theta: 90, phi: 0, hfov: 60, motion: [0.6, 0.8, 0.00001]}\n'
 scene "motion at infinity" 1 "observer.motion: the observer at infinity (r: inf) is static" \
     "$KERR"$'observer: {r: inf, theta: 90, phi: 0, hextent: 30, motion: infall}\n'
 scene "motion: sideways on the polar axis" 1 "observer.motion = [0, 0.1, 0]: on the polar axis (theta = 0 deg) e_theta and e_phi are not defined" \
     "$KERR"$'observer: {r: 10, theta: 0, phi: 0, hfov: 60, motion: [0, 0.1, 0]}\n'
+# a folder named info.txt in the output folder: refused before rendering,
+# naming it (was "cannot rename ...: Is a directory" after the first frame,
+# and "Input/output error" with --resume)
+rm -rf fi && mkdir -p fi/info.txt
+for extra in "" --resume; do
+    run -s good.yml -o fi -x 8 -y 8 -t ic -a true $extra
+    if [ "$RC" = 1 ] && [[ "$OUT" == *"fi/info.txt is a folder, where this run writes its summary info.txt; move it away, or choose another output folder with -o"* ]] &&
+       [ ! -e fi/c_0.png ] && [ -z "$(temps_in fi)" ]; then
+        ok "a folder named info.txt ${extra:+($extra) }is refused, naming it"
+    else
+        bad "a folder named info.txt ${extra:+($extra)}" "exit status $RC"
+    fi
+done
+rm -rf fi
 # rays that end on max_steps: own colour (yellow), a warning, a line in info.txt
 rm -rf o
 printf 'raytracer: {integrator: rk4, max_steps: 50}\n' >limits.yml
