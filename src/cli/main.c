@@ -1089,8 +1089,11 @@ static int cr_make_videos(cr_run *run, cr_err *err)
 static int cr_report(cr_run *run)
 {
     if (atomic_load(&run->intr.count) > 0) {
-        cr_log_error(&run->log, "curray: interrupted; %d of %ld frames finished and kept in %s",
-                     run->n_done, run->cli.frames, run->cli.output_dir);
+        cr_log_error(&run->log, "curray: interrupted; %d of %ld frames finished and kept in %s%s",
+                     run->n_done, run->cli.frames, run->cli.output_dir,
+                     run->mpi_size > 1        ? ""
+                     : cr_has_type(run, 'i') ? "; the same command with --resume renders the rest"
+                                             : "; add i to -t (info.txt) to make a run resumable");
         if (run->mpi_size > 1)
             cr_log_error(&run->log, "curray: an MPI run stops when mpirun ends it: a rank died or "
                                     "the job was cancelled (mpirun's message says which rank); "

@@ -597,6 +597,7 @@ else
     why=""
     [ "$RC" = 130 ] || why="exit status $RC, expected 130"
     [[ "$OUT" == *"interrupted; $n_c of 200 frames finished and kept in si"* ]] || why=${why:-"message lacks 'interrupted; $n_c of 200 frames finished'"}
+    [[ "$OUT" == *"kept in si; the same command with --resume renders the rest"* ]] || why=${why:-"message does not point to --resume"}
     [ "$n_c" -ge 1 ] && [ "$n_c" -lt 200 ] || why=${why:-"$n_c frames kept"}
     for ((k = 0; k < n_c; k++)); do
         for f in c_$k.png r_$k.png d_$k.csv; do [ -s "si/$f" ] || why=${why:-"finished frame lacks $f"}; done

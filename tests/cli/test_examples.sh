@@ -12,7 +12,8 @@
 # 24x16 pixels (-x/-y appended: the last one counts) and -a -q added: it must
 # exit 0 and leave c_<f-1>.png and info.txt recording every frame in its
 # folder; the same command with --resume added must exit 0 and render no
-# frame again. About 10 s.
+# frame again. Then Ctrl-C of the flyby's command says how to continue
+# (--resume, or adding i to -t without info.txt). About 15 s.
 set -u
 
 CURRAY=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
@@ -75,4 +76,35 @@ for scene in "$ROOT"/scenes/*.yml; do
     done <<<"$cmds"
 done
 [ $n -ge 19 ] && ok "$n header commands found" || bad "header commands" "only $n found"
+
+# Ctrl-C during a copied example says how to go on: with info.txt among the
+# outputs the same command with --resume, which then finishes the run;
+# without it, to add i to -t.
+interrupt() { # folder, then curray's arguments: OUT (its output), RC
+    local dir=$1
+    shift
+    "$CURRAY" "$@" -o "$dir" -a -q </dev/null >"$dir.log" 2>&1 &
+    local pid=$!
+    for _ in $(seq 600); do [ -e "$dir/c_0.png" ] && break; sleep 0.1; done
+    kill -INT "$pid" 2>/dev/null
+    wait "$pid"
+    RC=$?
+    OUT=$(cat "$dir.log")
+}
+flyby=(-s scenes/observer-orbit.yml -x 64 -y 48 -f 60 --threads 1)
+interrupt out/int "${flyby[@]}" -t ic
+if [ $RC = 130 ] && has "frames finished and kept in out/int; the same command with --resume renders the rest"; then
+    ok "Ctrl-C of the flyby points to --resume"
+else
+    bad "Ctrl-C of the flyby points to --resume" "rc $RC"
+fi
+run "${flyby[@]}" -t ic -o out/int -a -q --resume
+[ $RC = 0 ] && grep -q "^Finished 60 of 60 frames" out/int/info.txt && [ -s out/int/c_59.png ] &&
+    ok "... and --resume finishes it" || bad "--resume after Ctrl-C" "rc $RC"
+interrupt out/int-c "${flyby[@]}" -t c
+if [ $RC = 130 ] && has "frames finished and kept in out/int-c; add i to -t (info.txt) to make a run resumable"; then
+    ok "Ctrl-C of a run without info.txt says to add i to -t"
+else
+    bad "Ctrl-C of a run without info.txt says to add i to -t" "rc $RC"
+fi
 finish
