@@ -152,13 +152,13 @@ static void test_config_key(void **state)
     size_t k;
     (void)state;
     assert_int_equal(cr_sysconfig_load_string("", 0, "c.yml", &c, &err), 0);
-    assert_int_equal(c.samples, 1);
+    assert_int_equal(c.raytracer.samples, 1);
     assert_int_equal(cr_sysconfig_load_string("raytracer: {samples: 1}\n", 24, "c.yml", &c, &err),
                      0);
-    assert_int_equal(c.samples, 1);
+    assert_int_equal(c.raytracer.samples, 1);
     assert_int_equal(cr_sysconfig_load_string("raytracer: {samples: 16}\n", 25, "c.yml", &c, &err),
                      0);
-    assert_int_equal(c.samples, 16);
+    assert_int_equal(c.raytracer.samples, 16);
     for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         assert_int_equal(cr_sysconfig_load_string(bad[k], strlen(bad[k]), "c.yml", &c, &err), -1);
         assert_non_null(strstr(err.msg, "c.yml:1:"));

@@ -103,12 +103,12 @@ static void bk_base(bk_case *c, const char *name, double m, double a, double q, 
     f->sky_color = bk_rgb(255, 255, 255);
     f->horizon_color = bk_rgb(0, 0, 0);
     f->error_color = bk_rgb(0, 0, 255);
-    f->integrator = CR_DEFAULT_INTEGRATOR;
-    f->tolerance = CR_DEFAULT_TOLERANCE;
-    f->step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
-    f->horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
-    f->max_steps = CR_DEFAULT_MAX_STEPS;
-    f->max_turns = CR_DEFAULT_MAX_TURNS;
+    f->integrator = cr_trace_defaults().integrator;
+    f->tolerance = cr_trace_defaults().tolerance;
+    f->step_multiplier = cr_trace_defaults().step_multiplier;
+    f->horizon_epsilon = cr_trace_defaults().horizon_epsilon;
+    f->max_steps = cr_trace_defaults().max_steps;
+    f->max_turns = cr_trace_defaults().max_turns;
 }
 
 /* The observer at infinity at inclination theta, with an image plane of
@@ -318,11 +318,11 @@ static int bk_from_scene(const cr_scene *s, const char *name, int integrator, in
     else
         snprintf(c->name, sizeof c->name, "scenes/%s", name);
     ts.integrator = integrator;
-    ts.tolerance = CR_DEFAULT_TOLERANCE;
-    ts.step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
-    ts.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
-    ts.max_steps = CR_DEFAULT_MAX_STEPS;
-    ts.max_turns = CR_DEFAULT_MAX_TURNS;
+    ts.tolerance = cr_trace_defaults().tolerance;
+    ts.step_multiplier = cr_trace_defaults().step_multiplier;
+    ts.horizon_epsilon = cr_trace_defaults().horizon_epsilon;
+    ts.max_steps = cr_trace_defaults().max_steps;
+    ts.max_turns = cr_trace_defaults().max_turns;
     ts.samples = samples;
     if (cr_scene_frame(s, 0, 1, BK_W, BK_H, &ts, &c->f, c->spheres, &err) != 0) {
         printf("FAIL %s: frame 0: %s\n", c->name, err.msg);

@@ -90,7 +90,7 @@ static void test_conservation_along_rays(void **state)
                    nz = 0.5 * (cr_test_rand(&s) - 0.5);
             start_ray(&f, params[ip][0], params[ip][1], params[ip][2], 25.0,
                       0.2 + 2.7 * cr_test_rand(&s), nx, ny, nz, &g, y);
-            integrate(&f, &g, y, CR_DEFAULT_STEP_MULTIPLIER, 0.0, &st);
+            integrate(&f, &g, y, cr_trace_defaults().step_multiplier, 0.0, &st);
             worst_null = fmax(worst_null, st.max_null);
             worst_K = fmax(worst_K, st.max_dK);
             worst_EL = fmax(worst_EL, st.max_dEL);
@@ -139,7 +139,7 @@ static void test_conservation_through_axis(void **state)
             double y[CR_NY], dz = k == 0 ? 0.0 : (k % 2 ? 1.0 : -1.0) * 1e-6 * (1 << (k / 2));
             run_stats st;
             start_ray(&f, 1.0, spins[is], 0.1, 20.0, CR_PI / 3.0, -1.0, ny, z1 + dz, &g, y);
-            integrate(&f, &g, y, CR_DEFAULT_STEP_MULTIPLIER, 0.0, &st);
+            integrate(&f, &g, y, cr_trace_defaults().step_multiplier, 0.0, &st);
             crossings += st.axis_crossings;
             near += st.min_axis < 1e-3;
             worst_null = fmax(worst_null, st.max_null);

@@ -217,12 +217,12 @@ static int check_frame(const cr_scene *s, const char *label, int k, int n, doubl
         turned.obs_phi.a += dphi;
         turned.obs_phi.b += dphi;
         ts.integrator = (m == IMG_REF || m == IMG_RK4) ? CR_INTEG_RK4 : CR_INTEG_MINO;
-        ts.tolerance = cfg.tolerance;
-        ts.step_multiplier = m == IMG_REF ? REF_STEP_MULTIPLIER : cfg.step_multiplier;
-        ts.horizon_epsilon = cfg.horizon_epsilon;
-        ts.max_steps = cfg.max_steps;
-        ts.max_turns = cfg.max_turns;
-        ts.samples = cfg.samples;
+        ts.tolerance = cfg.raytracer.tolerance;
+        ts.step_multiplier = m == IMG_REF ? REF_STEP_MULTIPLIER : cfg.raytracer.step_multiplier;
+        ts.horizon_epsilon = cfg.raytracer.horizon_epsilon;
+        ts.max_steps = cfg.raytracer.max_steps;
+        ts.max_turns = cfg.raytracer.max_turns;
+        ts.samples = cfg.raytracer.samples;
         img[m] = calloc(NPX, sizeof *img[m]);
         assert_non_null(img[m]);
         if (cr_scene_frame(&turned, k, n, W, H, &ts, &f, sp, &err))

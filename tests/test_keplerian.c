@@ -45,10 +45,10 @@ static void frame_from(const char *text, int integ, int w, int h, cr_frame *f, c
     cr_err err;
     cr_trace_settings ts = {.integrator = integ,
                             .tolerance = 1e-10,
-                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER / 4,
-                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
-                            .max_steps = CR_DEFAULT_MAX_STEPS,
-                            .max_turns = CR_DEFAULT_MAX_TURNS};
+                            .step_multiplier = cr_trace_defaults().step_multiplier / 4,
+                            .horizon_epsilon = cr_trace_defaults().horizon_epsilon,
+                            .max_steps = cr_trace_defaults().max_steps,
+                            .max_turns = cr_trace_defaults().max_turns};
     if (cr_scene_load_string(text, strlen(text), "kep.yml", s, &err))
         fail_msg("%s", err.msg);
     if (cr_scene_frame(s, 0, 1, w, h, &ts, f, NULL, &err))

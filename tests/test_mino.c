@@ -798,7 +798,7 @@ static void darwin_check(const cr_frame *f0, const double *ab, const cr_geo *g, 
     {
         cr_frame f = *f0;
         cr_pixel px;
-        f.tolerance = CR_DEFAULT_TOLERANCE;
+        f.tolerance = cr_trace_defaults().tolerance;
         px = trace_with_disc(&f, rp * (1.0 - band), rp * (1.0 + band), ab, g, y);
         assert_int_equal(px.outcome, CR_OUT_DISC);
         assert_int_equal(px.object, order);
@@ -838,7 +838,7 @@ static void test_darwin_disc_radius(void **state)
         double th_o = incl[ii] * CR_PI / 180.0, ph_o = 0.3;
         double n0[3], rt[3], up[3];
         cr_frame f;
-        make_frame(&f, 0.0, 0.0, INFINITY, th_o, CR_DEFAULT_TOLERANCE, 1);
+        make_frame(&f, 0.0, 0.0, INFINITY, th_o, cr_trace_defaults().tolerance, 1);
         f.observer.phi = ph_o;
         cr_frame_prepare(&f);
         image_axes(th_o, ph_o, n0, rt, up);
@@ -866,7 +866,7 @@ static void test_darwin_disc_radius(void **state)
         const double r_o = 1e4, th_o = CR_PI / 3.0, ph_o = 0.0;
         double n0[3], et[3], ep[3];
         cr_frame f;
-        make_frame(&f, 0.0, 0.0, r_o, th_o, CR_DEFAULT_TOLERANCE, 1);
+        make_frame(&f, 0.0, 0.0, r_o, th_o, cr_trace_defaults().tolerance, 1);
         unit_vec(th_o, ph_o, n0);
         et[0] = cos(th_o) * cos(ph_o);
         et[1] = cos(th_o) * sin(ph_o);
@@ -920,7 +920,7 @@ static void test_shadow_from_infinity(void **state)
         for (ii = 0; ii < 3; ii++) {
             cr_frame f;
             double lo_all = 1e9, hi_all = 0.0;
-            make_frame(&f, 0.0, q, INFINITY, incl[ii] * CR_PI / 180.0, CR_DEFAULT_TOLERANCE, 0);
+            make_frame(&f, 0.0, q, INFINITY, incl[ii] * CR_PI / 180.0, cr_trace_defaults().tolerance, 0);
             for (ic = 0; ic < 5; ic++) {
                 double lo = bc - 0.1, hi = bc + 0.1, edge;
                 int it;

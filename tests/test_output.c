@@ -914,12 +914,12 @@ static void test_info(void **state)
     cfg.gpu_enabled[0] = 1;
     cfg.gpu_enabled[2] = 1;
     cfg.cpu_threads = 0;
-    cfg.horizon_epsilon = 0.005;
-    cfg.integrator = CR_INTEG_MINO;
-    cfg.tolerance = 1e-8;
-    cfg.step_multiplier = 0.03125;
-    cfg.max_steps = 100000;
-    cfg.max_turns = 4;
+    cfg.raytracer.horizon_epsilon = 0.005;
+    cfg.raytracer.integrator = CR_INTEG_MINO;
+    cfg.raytracer.tolerance = 1e-8;
+    cfg.raytracer.step_multiplier = 0.03125;
+    cfg.raytracer.max_steps = 100000;
+    cfg.raytracer.max_turns = 4;
     cfg.auto_accept = 1;
 
     memset(px, 0, sizeof px);
@@ -1097,7 +1097,7 @@ static void test_info_at_infinity(void **state)
     s.sky_height = 2;
     s.sky_at_infinity = 1;
     cr_sysconfig_defaults(&cfg);
-    cfg.integrator = CR_INTEG_RK4;
+    cfg.raytracer.integrator = CR_INTEG_RK4;
     assert_int_equal(cr_info_write(f->dir, NULL, &s, &cfg, NULL, 0, &err), 0);
     join(path, f, "info.txt");
     t = read_all(path, NULL);

@@ -130,11 +130,11 @@ static void frame_init(cr_frame *f, double m, double a, double q, double r, doub
     f->error_color.b = 255;
     f->sky_color.g = 17;
     f->integrator = integ;
-    f->tolerance = CR_DEFAULT_TOLERANCE;
-    f->step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
-    f->horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
-    f->max_steps = CR_DEFAULT_MAX_STEPS;
-    f->max_turns = CR_DEFAULT_MAX_TURNS;
+    f->tolerance = cr_trace_defaults().tolerance;
+    f->step_multiplier = cr_trace_defaults().step_multiplier;
+    f->horizon_epsilon = cr_trace_defaults().horizon_epsilon;
+    f->max_steps = cr_trace_defaults().max_steps;
+    f->max_turns = cr_trace_defaults().max_turns;
 }
 
 /* Give f the green/magenta chessboard disc (ERRATA 3) of n_rad rings and
@@ -910,7 +910,7 @@ static void test_sphere_within_one_step(void **state)
     assert_true(steps < 30); /* long steps, or the test means nothing */
     /* mino, tolerance 1e-3 and the default */
     {
-        static const double tols[] = {1e-3, CR_DEFAULT_TOLERANCE};
+        const double tols[] = {1e-3, cr_trace_defaults().tolerance};
         int t;
         for (t = 0; t < 2; t++) {
             long steps_mino = 0;
@@ -993,9 +993,10 @@ static void test_redshift_off_equator(void **state)
 
 static void test_error_statistics(void **state)
 {
-    static double vals[CR_DEFAULT_MAX_STEPS + 1];
+    double *vals = malloc((size_t)(cr_trace_defaults().max_steps + 1) * sizeof *vals);
     int integ, i;
     (void)state;
+    assert_non_null(vals);
     for (integ = 0; integ < 2; integ++) {
         cr_frame f;
         double worst_m = 0.0, worst_s = 0.0;
@@ -1050,6 +1051,7 @@ static void test_error_statistics(void **state)
         assert_true(worst_m < 1e-9);
         assert_true(worst_s < 1e-9);
     }
+    free(vals);
 }
 
 /* --- 8. null-error bounds ----------------------------------------------- */
@@ -1069,19 +1071,19 @@ static void test_null_error_bounds(void **state)
             cr_frame f;
             cr_sphere sp[4];
             cr_trace_settings ts = {.integrator = integ,
-                                    .tolerance = CR_DEFAULT_TOLERANCE,
-                                    .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
-                                    .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
-                                    .max_steps = CR_DEFAULT_MAX_STEPS,
-                                    .max_turns = CR_DEFAULT_MAX_TURNS};
+                                    .tolerance = cr_trace_defaults().tolerance,
+                                    .step_multiplier = cr_trace_defaults().step_multiplier,
+                                    .horizon_epsilon = cr_trace_defaults().horizon_epsilon,
+                                    .max_steps = cr_trace_defaults().max_steps,
+                                    .max_turns = cr_trace_defaults().max_turns};
             cr_pixel *px = calloc((size_t)w * h, sizeof *px);
             double mm = 0.0, ms = 0.0, bm, bs;
             /* 10x the largest values measured: mino (monitor ~ tol)
              * err_mean 0.93 tol, err_std 0.57 tol (at tol 1e-8 and 1e-7);
              * rk4 (c = 1/32) err_mean 8.6e-9, err_std 1.28e-8 */
             if (integ == CR_INTEG_MINO) {
-                bm = 10.0 * CR_DEFAULT_TOLERANCE;
-                bs = 6.0 * CR_DEFAULT_TOLERANCE;
+                bm = 10.0 * cr_trace_defaults().tolerance;
+                bs = 6.0 * cr_trace_defaults().tolerance;
             } else {
                 bm = 9e-8;
                 bs = 1.3e-7;

@@ -35,11 +35,11 @@
 static cr_trace_settings settings(int integrator)
 {
     cr_trace_settings ts = {.integrator = integrator,
-                            .tolerance = CR_DEFAULT_TOLERANCE,
-                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
-                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
-                            .max_steps = CR_DEFAULT_MAX_STEPS,
-                            .max_turns = CR_DEFAULT_MAX_TURNS};
+                            .tolerance = cr_trace_defaults().tolerance,
+                            .step_multiplier = cr_trace_defaults().step_multiplier,
+                            .horizon_epsilon = cr_trace_defaults().horizon_epsilon,
+                            .max_steps = cr_trace_defaults().max_steps,
+                            .max_turns = cr_trace_defaults().max_turns};
     return ts;
 }
 
@@ -50,7 +50,7 @@ static cr_pixel *render(const char *scene_file, int k, int n)
     cr_err err;
     cr_frame f;
     cr_sphere sp[16];
-    cr_trace_settings ts = settings(CR_DEFAULT_INTEGRATOR);
+    cr_trace_settings ts = settings(cr_trace_defaults().integrator);
     cr_pixel *px = calloc(W * H, sizeof *px);
     snprintf(path, sizeof path, "%s/scenes/%s", CR_SOURCE_DIR, scene_file);
     if (cr_scene_load(path, &s, &err))

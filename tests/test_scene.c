@@ -498,13 +498,13 @@ static void test_frame_fields(void **state)
     /* defaults of the raytracer settings with ts == NULL */
     if (cr_scene_frame(&s, 0, 1, 320, 200, NULL, &f, buf, &e))
         fail_msg("%s", e.msg);
-    assert_true(f.step_multiplier == CR_DEFAULT_STEP_MULTIPLIER);
-    assert_true(f.horizon_epsilon == CR_DEFAULT_HORIZON_EPSILON);
-    assert_true(f.max_steps == CR_DEFAULT_MAX_STEPS);
-    assert_true(f.max_turns == CR_DEFAULT_MAX_TURNS);
-    assert_int_equal(f.integrator, CR_DEFAULT_INTEGRATOR);
+    assert_true(f.step_multiplier == cr_trace_defaults().step_multiplier);
+    assert_true(f.horizon_epsilon == cr_trace_defaults().horizon_epsilon);
+    assert_true(f.max_steps == cr_trace_defaults().max_steps);
+    assert_true(f.max_turns == cr_trace_defaults().max_turns);
+    assert_int_equal(f.integrator, cr_trace_defaults().integrator);
     assert_int_equal(f.integrator, CR_INTEG_MINO);
-    assert_true(f.tolerance == CR_DEFAULT_TOLERANCE);
+    assert_true(f.tolerance == cr_trace_defaults().tolerance);
     cr_scene_free(&s);
 }
 
@@ -589,7 +589,7 @@ static void test_frame_extremal_accepted(void **state)
     (void)state;
     frame_accepts("m: 1, a: 1, q: 0", OBS, NULL, &f); /* listing 7.2.1 */
     assert_true(f.metric.a == 1.0);
-    assert_near(f.r_stop, 1.0 + CR_DEFAULT_HORIZON_EPSILON, 1e-15);
+    assert_near(f.r_stop, 1.0 + cr_trace_defaults().horizon_epsilon, 1e-15);
     frame_accepts("m: 1, a: 0, q: 1", OBS, NULL, &f); /* listing 7.3.1 */
     frame_accepts("m: 1, a: -1, q: 0", OBS, NULL, &f);
     /* 0.6^2 + 0.8^2 rounds above 1 in doubles: still extremal */
@@ -727,27 +727,27 @@ static void test_frame_rejects_settings(void **state)
 {
     cr_scene s;
     cr_frame f;
-    cr_trace_settings ts = {.integrator = CR_DEFAULT_INTEGRATOR,
-                            .tolerance = CR_DEFAULT_TOLERANCE,
-                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
-                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
-                            .max_steps = CR_DEFAULT_MAX_STEPS,
-                            .max_turns = CR_DEFAULT_MAX_TURNS};
+    cr_trace_settings ts = {.integrator = cr_trace_defaults().integrator,
+                            .tolerance = cr_trace_defaults().tolerance,
+                            .step_multiplier = cr_trace_defaults().step_multiplier,
+                            .horizon_epsilon = cr_trace_defaults().horizon_epsilon,
+                            .max_steps = cr_trace_defaults().max_steps,
+                            .max_turns = cr_trace_defaults().max_turns};
     cr_err e;
     (void)state;
     load_ok(MIN, &s);
     ts.step_multiplier = 0.0;
     assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
     assert_contains(e.msg, "step_multiplier");
-    ts.step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
+    ts.step_multiplier = cr_trace_defaults().step_multiplier;
     ts.horizon_epsilon = -1.0;
     assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
     assert_contains(e.msg, "horizon_epsilon");
-    ts.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
+    ts.horizon_epsilon = cr_trace_defaults().horizon_epsilon;
     ts.max_steps = 0;
     assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
     assert_contains(e.msg, "max_steps");
-    ts.max_steps = CR_DEFAULT_MAX_STEPS;
+    ts.max_steps = cr_trace_defaults().max_steps;
     {
         const double bad[] = {0.0, -1e-8, NAN, INFINITY, -INFINITY};
         size_t i;
@@ -758,7 +758,7 @@ static void test_frame_rejects_settings(void **state)
             assert_contains(e.msg, "must be positive");
         }
     }
-    ts.tolerance = CR_DEFAULT_TOLERANCE;
+    ts.tolerance = cr_trace_defaults().tolerance;
     ts.integrator = CR_INTEG_COUNT_;
     assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, &ts, &f, NULL, &e), -1);
     assert_string_equal(e.msg, NAME ": raytracer.integrator = 2 is not an integrator (expected "
@@ -819,7 +819,7 @@ static void test_observer_at_infinity(void **state)
     assert_true(f.observer.hfov == 0.0 && f.observer.vfov == 0.0);
     assert_true(f.observer.pitch == 0.0 && f.observer.yaw == 0.0);
     assert_near(f.observer.theta, 85.0 * DEG, 1e-15);
-    assert_int_equal(f.integrator, CR_DEFAULT_INTEGRATOR);
+    assert_int_equal(f.integrator, cr_trace_defaults().integrator);
     /* its boundary is at infinity too */
     assert_true(isfinite(f.r_max) || f.r_max == INFINITY);
     assert_true(isfinite(f.r_stop));
@@ -859,11 +859,11 @@ static void test_observer_at_infinity_rejects(void **state)
     cr_frame f;
     cr_err e;
     cr_trace_settings ts = {.integrator = CR_INTEG_RK4,
-                            .tolerance = CR_DEFAULT_TOLERANCE,
-                            .step_multiplier = CR_DEFAULT_STEP_MULTIPLIER,
-                            .horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON,
-                            .max_steps = CR_DEFAULT_MAX_STEPS,
-                            .max_turns = CR_DEFAULT_MAX_TURNS};
+                            .tolerance = cr_trace_defaults().tolerance,
+                            .step_multiplier = cr_trace_defaults().step_multiplier,
+                            .horizon_epsilon = cr_trace_defaults().horizon_epsilon,
+                            .max_steps = cr_trace_defaults().max_steps,
+                            .max_turns = cr_trace_defaults().max_turns};
     (void)state;
 #define INF_R "r: inf, theta: 85, phi: 0"
     frame_rejects(SCHW, INF_R ", hextent: 0", NULL, 0, 1, 64, 48,

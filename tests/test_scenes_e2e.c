@@ -222,13 +222,13 @@ static shot *render(const char *path, int k, int n, double dphi)
     s->scene.obs_phi.a += dphi;
     s->scene.obs_phi.b += dphi;
     cr_sysconfig_defaults(&cfg);
-    ts.integrator = cfg.integrator;
-    ts.tolerance = cfg.tolerance;
-    ts.step_multiplier = cfg.step_multiplier;
-    ts.horizon_epsilon = cfg.horizon_epsilon;
-    ts.max_steps = cfg.max_steps;
-    ts.max_turns = cfg.max_turns;
-    ts.samples = cfg.samples;
+    ts.integrator = cfg.raytracer.integrator;
+    ts.tolerance = cfg.raytracer.tolerance;
+    ts.step_multiplier = cfg.raytracer.step_multiplier;
+    ts.horizon_epsilon = cfg.raytracer.horizon_epsilon;
+    ts.max_steps = cfg.raytracer.max_steps;
+    ts.max_turns = cfg.raytracer.max_turns;
+    ts.samples = cfg.raytracer.samples;
     if (cr_scene_frame(&s->scene, k, n, W, H, &ts, &s->f, s->sp, &err))
         fail_msg("%s", err.msg);
     s->px = calloc(NPX, sizeof *s->px);

@@ -1,6 +1,6 @@
 /* The system configuration (appendix E.2).
  *
- * - built-in defaults (CR_DEFAULT_* of trace.h), for no file content at all;
+ * - built-in defaults (cr_trace_defaults of settings.def), for no file content at all;
  * - raytracer.integrator by name (cr_integrator_name / cr_integrator_parse
  *   agree) and raytracer.tolerance;
  * - listing E.1 as a file; every key; the gpus rule (no section: device 0;
@@ -49,12 +49,12 @@ static void assert_defaults(const cr_sysconfig *c)
     for (i = 1; i < CR_MAX_GPUS; i++)
         assert_int_equal(c->gpu_enabled[i], 0);
     assert_int_equal(c->cpu_threads, 0);
-    assert_int_equal(c->integrator, CR_DEFAULT_INTEGRATOR);
-    assert_true(c->tolerance == CR_DEFAULT_TOLERANCE);
-    assert_true(c->horizon_epsilon == CR_DEFAULT_HORIZON_EPSILON);
-    assert_true(c->step_multiplier == CR_DEFAULT_STEP_MULTIPLIER);
-    assert_true(c->max_steps == CR_DEFAULT_MAX_STEPS);
-    assert_true(c->max_turns == CR_DEFAULT_MAX_TURNS);
+    assert_int_equal(c->raytracer.integrator, cr_trace_defaults().integrator);
+    assert_true(c->raytracer.tolerance == cr_trace_defaults().tolerance);
+    assert_true(c->raytracer.horizon_epsilon == cr_trace_defaults().horizon_epsilon);
+    assert_true(c->raytracer.step_multiplier == cr_trace_defaults().step_multiplier);
+    assert_true(c->raytracer.max_steps == cr_trace_defaults().max_steps);
+    assert_true(c->raytracer.max_turns == cr_trace_defaults().max_turns);
     assert_int_equal(c->verbose, 0);
     assert_int_equal(c->quiet, 0);
     assert_int_equal(c->keep_log, 0);
@@ -72,10 +72,10 @@ static void test_defaults(void **state)
     (void)state;
     cr_sysconfig_defaults(&c);
     assert_defaults(&c);
-    assert_true(c.horizon_epsilon == 0.5e-2);
-    assert_true(c.step_multiplier == 1.0 / 32.0);
-    assert_int_equal(c.integrator, CR_INTEG_MINO);
-    assert_true(c.tolerance == 1e-7);
+    assert_true(c.raytracer.horizon_epsilon == 0.5e-2);
+    assert_true(c.raytracer.step_multiplier == 1.0 / 32.0);
+    assert_int_equal(c.raytracer.integrator, CR_INTEG_MINO);
+    assert_true(c.raytracer.tolerance == 1e-7);
     for (i = 0; i < sizeof empties / sizeof empties[0]; i++) {
         memset(&c, 0x5a, sizeof c);
         load_ok(empties[i], &c);
@@ -95,10 +95,10 @@ static void test_listing_e1(void **state)
     assert_int_equal(c.gpu_enabled[1], 0);
     assert_int_equal(c.gpu_enabled[2], 0);
     assert_int_equal(c.cpu_threads, 4);
-    assert_true(c.horizon_epsilon == 0.5e-2);
-    assert_true(c.step_multiplier == 0.03125);
-    assert_true(c.max_steps == CR_DEFAULT_MAX_STEPS);
-    assert_true(c.max_turns == CR_DEFAULT_MAX_TURNS);
+    assert_true(c.raytracer.horizon_epsilon == 0.5e-2);
+    assert_true(c.raytracer.step_multiplier == 0.03125);
+    assert_true(c.raytracer.max_steps == cr_trace_defaults().max_steps);
+    assert_true(c.raytracer.max_turns == cr_trace_defaults().max_turns);
     assert_int_equal(c.verbose, 0);
     assert_int_equal(c.quiet, 0);
     assert_int_equal(c.keep_log, 0);
@@ -137,12 +137,12 @@ static void test_every_key(void **state)
     for (i = 0; i < CR_MAX_GPUS; i++)
         assert_int_equal(c.gpu_enabled[i], i == 1 || i == 3 || i == 63);
     assert_int_equal(c.cpu_threads, 12);
-    assert_true(c.horizon_epsilon == 1e-3);
-    assert_true(c.step_multiplier == 0.0625);
-    assert_true(c.max_steps == 5000);
-    assert_true(c.max_turns == 2.5);
-    assert_int_equal(c.integrator, CR_INTEG_RK4);
-    assert_true(c.tolerance == 1e-6);
+    assert_true(c.raytracer.horizon_epsilon == 1e-3);
+    assert_true(c.raytracer.step_multiplier == 0.0625);
+    assert_true(c.raytracer.max_steps == 5000);
+    assert_true(c.raytracer.max_turns == 2.5);
+    assert_int_equal(c.raytracer.integrator, CR_INTEG_RK4);
+    assert_true(c.raytracer.tolerance == 1e-6);
     assert_int_equal(c.verbose, 1);
     assert_int_equal(c.quiet, 0);
     assert_int_equal(c.keep_log, 1);
@@ -209,8 +209,8 @@ static void test_integrator(void **state)
         cr_sysconfig c;
         snprintf(text, sizeof text, "raytracer: {integrator: %s}\n", cases[i].text);
         load_ok(text, &c);
-        assert_int_equal(c.integrator, cases[i].value);
-        assert_true(c.tolerance == CR_DEFAULT_TOLERANCE);
+        assert_int_equal(c.raytracer.integrator, cases[i].value);
+        assert_true(c.raytracer.tolerance == cr_trace_defaults().tolerance);
     }
     /* the names info.txt shows are the names the file takes */
     for (k = 0; k < CR_INTEG_COUNT_; k++) {
@@ -231,10 +231,10 @@ static void test_integrator(void **state)
     {
         cr_sysconfig c;
         load_ok("raytracer:\n  tolerance: 1e-10\n", &c);
-        assert_true(c.tolerance == 1e-10);
-        assert_int_equal(c.integrator, CR_DEFAULT_INTEGRATOR);
+        assert_true(c.raytracer.tolerance == 1e-10);
+        assert_int_equal(c.raytracer.integrator, cr_trace_defaults().integrator);
         load_ok("raytracer: {tolerance: 0.5}\n", &c);
-        assert_true(c.tolerance == 0.5);
+        assert_true(c.raytracer.tolerance == 0.5);
     }
 }
 

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/trace.h"
+#include "input/settings.h" /* cr_trace_defaults */
 
 /* xorshift64*: deterministic, so failures reproduce. */
 static inline double cr_test_rand(uint64_t *s)
@@ -34,12 +35,12 @@ static inline void cr_test_empty_frame(cr_frame *f, double m, double a, double q
     f->horizon_color.r = 255;
     f->error_color.b = 255;
     f->limit_color.r = f->limit_color.g = 255;
-    f->integrator = CR_DEFAULT_INTEGRATOR;
-    f->tolerance = CR_DEFAULT_TOLERANCE;
-    f->step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
-    f->horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
-    f->max_steps = CR_DEFAULT_MAX_STEPS;
-    f->max_turns = CR_DEFAULT_MAX_TURNS;
+    f->integrator = cr_trace_defaults().integrator;
+    f->tolerance = cr_trace_defaults().tolerance;
+    f->step_multiplier = cr_trace_defaults().step_multiplier;
+    f->horizon_epsilon = cr_trace_defaults().horizon_epsilon;
+    f->max_steps = cr_trace_defaults().max_steps;
+    f->max_turns = cr_trace_defaults().max_turns;
     cr_frame_prepare(f);
 }
 

@@ -30,17 +30,10 @@ OUTCOMES = _C["outcomes"]
 #: columns of a ray path (see trace)
 PATH_COLUMNS = tuple(_C["path_columns"].split(","))
 
-#: keyword arguments of render/trace and the config.yml key each sets
-CONFIG_KEYS = {
-    "integrator": "raytracer.integrator",
-    "tolerance": "raytracer.tolerance",
-    "horizon_epsilon": "raytracer.horizon_epsilon",
-    "step_multiplier": "raytracer.step_multiplier",
-    "max_steps": "raytracer.max_steps",
-    "max_turns": "raytracer.max_turns",
-    "samples": "raytracer.samples",
-    "threads": "cpu.threads",
-}
+#: keyword arguments of render/trace and the config.yml key each sets: every
+#: raytracer setting (the C table settings.def) by its key, and threads
+CONFIG_KEYS = {k.split(".")[1]: k for k in _C["settings"]}
+CONFIG_KEYS["threads"] = "cpu.threads"
 
 _PLAIN = re.compile(r"^[A-Za-z0-9_.+-][A-Za-z0-9 _.+-]*$")
 

@@ -94,13 +94,7 @@ static int cr_py_prepare(cr_py_job *j, const char *scene_text, Py_ssize_t scene_
         PyErr_NoMemory();
         return -1;
     }
-    ts.integrator = j->cfg.integrator;
-    ts.tolerance = j->cfg.tolerance;
-    ts.step_multiplier = j->cfg.step_multiplier;
-    ts.horizon_epsilon = j->cfg.horizon_epsilon;
-    ts.max_steps = j->cfg.max_steps;
-    ts.max_turns = j->cfg.max_turns;
-    ts.samples = j->cfg.samples;
+    ts = j->cfg.raytracer;
     if (cr_scene_frame(&j->scene, (int)k, (int)n, (int)width, (int)height, &ts, &j->f,
                        j->spheres, &err)) {
         cr_py_job_free(j);
@@ -370,22 +364,39 @@ static PyObject *cr_py_trace(PyObject *self, PyObject *args, PyObject *kw)
 /* Outcome names by code (the CSV's words), and the path columns. */
 static PyObject *cr_py_constants(PyObject *self, PyObject *unused)
 {
-    PyObject *names = PyTuple_New(CR_OUT_COUNT_);
+    PyObject *names = PyTuple_New(CR_OUT_COUNT_), *settings = PyTuple_New(cr_settings_count);
     int k;
     (void)self;
     (void)unused;
-    if (!names)
+    if (!names || !settings) {
+        Py_XDECREF(names);
+        Py_XDECREF(settings);
         return NULL;
+    }
+    for (k = 0; k < cr_settings_count; k++) { /* "section.key" of settings.def */
+        char path[96];
+        PyObject *s;
+        cr_setting_path(&cr_settings[k], path, sizeof path);
+        s = PyUnicode_FromString(path);
+        if (!s) {
+            Py_DECREF(names);
+            Py_DECREF(settings);
+            return NULL;
+        }
+        PyTuple_SET_ITEM(settings, k, s);
+    }
     for (k = 0; k < CR_OUT_COUNT_; k++) {
         PyObject *s = PyUnicode_FromString(cr_outcome_name(k));
         if (!s) {
             Py_DECREF(names);
+            Py_DECREF(settings);
             return NULL;
         }
         PyTuple_SET_ITEM(names, k, s);
     }
-    return Py_BuildValue("{s:N,s:s,s:i,s:s}", "outcomes", names, "path_columns",
-                         cr_raypath_csv_header, "path_ncol", CR_PN, "version", CURRAY_VERSION);
+    return Py_BuildValue("{s:N,s:N,s:s,s:i,s:s}", "outcomes", names, "settings", settings,
+                         "path_columns", cr_raypath_csv_header, "path_ncol", CR_PN, "version",
+                         CURRAY_VERSION);
 }
 
 static PyMethodDef cr_py_methods[] = {
@@ -393,7 +404,8 @@ static PyMethodDef cr_py_methods[] = {
      "Render one frame; returns a dict of bytearrays (the arrays of render)."},
     {"_trace", (PyCFunction)(void (*)(void))cr_py_trace, METH_VARARGS | METH_KEYWORDS,
      "Trace one pixel's ray with its path."},
-    {"_constants", cr_py_constants, METH_NOARGS, "Outcome names, path columns, version."},
+    {"_constants", cr_py_constants, METH_NOARGS,
+     "Outcome names, settings keys, path columns, version."},
     {"_backend_info", cr_py_backend_info, METH_NOARGS,
      "(CUDA built, the GPU backend='auto' would use or None, why not a GPU)."},
     {NULL, NULL, 0, NULL}};

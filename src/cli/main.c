@@ -597,13 +597,7 @@ static int cr_configure(cr_run *run, cr_err *err)
                                                                     : cr_cpu_cores());
     if (run->threads > CR_SYSCONFIG_MAX_THREADS)
         run->threads = CR_SYSCONFIG_MAX_THREADS; /* all cores of a machine with more */
-    run->ts.integrator = run->cfg.integrator;
-    run->ts.tolerance = run->cfg.tolerance;
-    run->ts.step_multiplier = run->cfg.step_multiplier;
-    run->ts.horizon_epsilon = run->cfg.horizon_epsilon;
-    run->ts.max_steps = run->cfg.max_steps;
-    run->ts.max_turns = run->cfg.max_turns;
-    run->ts.samples = run->cfg.samples;
+    run->ts = run->cfg.raytracer;
     return 0;
 }
 

@@ -196,7 +196,7 @@ int cr_run_hash(const cr_scene *scene, const cr_sysconfig *cfg, long width, long
                 cr_err *err)
 {
     uint64_t h = 0xcbf29ce484222325ULL;
-    char text[512], set[32] = "";
+    char text[1024], settings[512], set[32] = "";
     const char *all = "icrdbfv";
     size_t n = 0;
     /* the set of output types, in a fixed order */
@@ -208,12 +208,9 @@ int cr_run_hash(const cr_scene *scene, const cr_sysconfig *cfg, long width, long
         return -1;
     if (scene->has_sky && scene->sky_image && cr_fnv_file(&h, scene->sky_image, err))
         return -1;
-    snprintf(text, sizeof text,
-             "|integrator %d tolerance %.17g step %.17g eps %.17g max_steps %ld max_turns %.17g "
-             "samples %d|size %ldx%ld frames %ld types %s backend %s|%s",
-             cfg->integrator, cfg->tolerance, cfg->step_multiplier, cfg->horizon_epsilon,
-             cfg->max_steps, cfg->max_turns, cfg->samples, width, height, frames, set,
-             use_cuda ? "cuda" : "cpu", extra ? extra : "");
+    cr_trace_settings_hash_text(&cfg->raytracer, settings, sizeof settings);
+    snprintf(text, sizeof text, "|%s|size %ldx%ld frames %ld types %s backend %s|%s", settings,
+             width, height, frames, set, use_cuda ? "cuda" : "cpu", extra ? extra : "");
     cr_fnv(&h, text, strlen(text));
     snprintf(out, 17, "%016" PRIx64, h);
     return 0;

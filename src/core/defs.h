@@ -193,6 +193,9 @@ typedef enum cr_integrator {
     CR_INTEG_COUNT_ = 2
 } cr_integrator;
 
+/* Largest raytracer.samples: samples^2 sub-pixel rays per pixel. */
+#define CR_MAX_SAMPLES 16
+
 /* Everything needed to trace every pixel of one frame: plain data, no
  * pointers but the sphere array and the sky texture (both read-only).
  * Filled by the scene module for frame k, then completed by
@@ -209,7 +212,8 @@ typedef struct cr_frame {
     cr_rgb limit_color;  /* rays that end on max_steps or max_turns */
     int width, height;
 
-    /* raytracer settings (system configuration) */
+    /* raytracer settings (system configuration; their defaults and limits:
+       src/input/settings.def) */
     int integrator;         /* cr_integrator */
     double tolerance;       /* CR_INTEG_MINO: relative and absolute local
                                error tolerance per step, > 0 */

@@ -1,19 +1,11 @@
-/* curray core: the frame (cr_frame, defs.h): the defaults of its raytracer
- * settings, its lengths in units of M, and the derived fields every ray
- * reads (cr_frame_prepare).
+/* curray core: the frame (cr_frame, defs.h; the defaults and limits of its
+ * raytracer settings: src/input/settings.def): its lengths in units of M, and
+ * the derived fields every ray reads (cr_frame_prepare).
  */
 #ifndef CR_CORE_FRAME_H
 #define CR_CORE_FRAME_H
 
 #include "camera.h"
-
-/* Defaults of the raytracer settings (E.2). */
-#define CR_DEFAULT_STEP_MULTIPLIER 0.03125
-#define CR_DEFAULT_HORIZON_EPSILON 0.5e-2
-#define CR_DEFAULT_MAX_STEPS 200000L
-#define CR_DEFAULT_MAX_TURNS 50.0
-#define CR_DEFAULT_INTEGRATOR CR_INTEG_MINO
-#define CR_DEFAULT_TOLERANCE 1e-7
 
 /* The scene boundary when nothing else asks for more: beyond every photon
  * orbit of a Kerr-Newman hole (r <= 4M), so an outgoing ray there escapes. */

@@ -790,9 +790,6 @@ CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, co
     return cr_trace_loop(f, &ray);
 }
 
-/* Largest raytracer.samples: samples^2 sub-pixel rays per pixel. */
-#define CR_MAX_SAMPLES 16
-
 /* Trace the one ray through image point (x, y) of frame f, in pixel units of
  * cr_camera_screen / cr_camera_pixel_dir: (i, j) is the centre of pixel
  * (i, j) (those functions add 0.5). A point outside the picture

@@ -127,10 +127,12 @@ static char ascii_lower(char c)
     return (c >= 'A' && c <= 'Z') ? (char)(c - 'A' + 'a') : c;
 }
 
-int cr_integrator_parse(const char *text, size_t len)
+int cr_name_parse_folded(cr_names kind, const char *text, size_t len)
 {
-    char low[16];
+    char low[32];
     size_t i;
+    if (!text)
+        return -1;
     while (len > 0 && (text[0] == ' ' || text[0] == '\t')) {
         text++;
         len--;
@@ -141,7 +143,12 @@ int cr_integrator_parse(const char *text, size_t len)
         return -1;
     for (i = 0; i < len; i++)
         low[i] = ascii_lower(text[i]);
-    return cr_name_parse(CR_NAMES_INTEGRATOR, low, len);
+    return cr_name_parse(kind, low, len);
+}
+
+int cr_integrator_parse(const char *text, size_t len)
+{
+    return cr_name_parse_folded(CR_NAMES_INTEGRATOR, text, len);
 }
 
 const char *cr_outcome_name(int outcome)

@@ -28,6 +28,10 @@ const char *cr_name(cr_names kind, int v);
 /* The value whose word is exactly text[0..len), or -1 when none is. */
 int cr_name_parse(cr_names kind, const char *text, size_t len);
 
+/* The same in any letter case, with blanks and tabs around the word
+ * ignored (the configuration's words: raytracer.integrator). */
+int cr_name_parse_folded(cr_names kind, const char *text, size_t len);
+
 /* Number of words of kind: the values 0 .. n-1 have one. */
 int cr_names_count(cr_names kind);
 

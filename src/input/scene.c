@@ -1139,52 +1139,19 @@ static int frame_sphere(const cr_scene *s, int k, int n, int i, double a, cr_sph
 static int frame_settings(const cr_scene *s, int k, int n, const cr_trace_settings *ts,
                           cr_frame *f, cr_err *err)
 {
-    cr_trace_settings def;
-    if (!ts) {
-        def.integrator = CR_DEFAULT_INTEGRATOR;
-        def.tolerance = CR_DEFAULT_TOLERANCE;
-        def.step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
-        def.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
-        def.max_steps = CR_DEFAULT_MAX_STEPS;
-        def.max_turns = CR_DEFAULT_MAX_TURNS;
-        def.samples = 1;
-        ts = &def;
-    }
-    if (ts->integrator < 0 || ts->integrator >= CR_INTEG_COUNT_)
-        return frame_fail(err, s, k, n,
-                          "raytracer.integrator = %d is not an integrator (expected one of: %s)",
-                          ts->integrator, cr_integrator_names());
-    if (!(ts->tolerance > 0.0 && isfinite(ts->tolerance)))
-        return frame_fail(err, s, k, n, "raytracer.tolerance = %g must be positive",
-                          ts->tolerance);
-    if (s->obs_at_infinity && ts->integrator == CR_INTEG_RK4)
+    cr_trace_settings t = ts ? *ts : cr_trace_defaults();
+    char msg[CR_ERR_MSG];
+    if (t.samples == 0) /* 0 means 1 */
+        t.samples = 1;
+    if (cr_trace_settings_check(&t, msg, sizeof msg))
+        return frame_fail(err, s, k, n, "%s", msg);
+    if (s->obs_at_infinity && t.integrator == CR_INTEG_RK4)
         return frame_fail(err, s, k, n,
                           "raytracer.integrator = %s: the rk4 integrator cannot start at "
                           "infinity (observer.r: inf); use mino, or give observer.r a finite "
                           "value",
-                          cr_integrator_name(ts->integrator));
-    if (!(ts->step_multiplier > 0.0 && isfinite(ts->step_multiplier)))
-        return frame_fail(err, s, k, n, "raytracer.step_multiplier = %g must be positive",
-                          ts->step_multiplier);
-    if (!(ts->horizon_epsilon > 0.0 && isfinite(ts->horizon_epsilon)))
-        return frame_fail(err, s, k, n, "raytracer.horizon_epsilon = %g must be positive",
-                          ts->horizon_epsilon);
-    if (ts->max_steps < 1)
-        return frame_fail(err, s, k, n, "raytracer.max_steps = %ld must be positive",
-                          ts->max_steps);
-    if (!(ts->max_turns > 0.0))
-        return frame_fail(err, s, k, n, "raytracer.max_turns = %g must be positive",
-                          ts->max_turns);
-    if (ts->samples < 0 || ts->samples > CR_MAX_SAMPLES)
-        return frame_fail(err, s, k, n, "raytracer.samples = %d must be an integer from 1 to %d",
-                          ts->samples, CR_MAX_SAMPLES);
-    f->samples = ts->samples > 0 ? ts->samples : 1;
-    f->integrator = ts->integrator;
-    f->tolerance = ts->tolerance;
-    f->step_multiplier = ts->step_multiplier;
-    f->horizon_epsilon = ts->horizon_epsilon;
-    f->max_steps = ts->max_steps;
-    f->max_turns = ts->max_turns;
+                          cr_integrator_name(t.integrator));
+    cr_trace_settings_to_frame(&t, f);
     return 0;
 }
 

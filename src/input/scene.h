@@ -15,6 +15,7 @@
 
 #include "../core/defs.h"
 #include "../base/error.h"
+#include "settings.h"
 
 /* A value that may be animated: [linear, a, b] gives a != b; a plain value
  * has a == b. */
@@ -105,21 +106,10 @@ int cr_scene_load_string(const char *text, size_t len, const char *name, cr_scen
 
 void cr_scene_free(cr_scene *s);
 
-/* Settings that are not part of the scene but enter every frame. */
-typedef struct cr_trace_settings {
-    int integrator;   /* cr_integrator */
-    double tolerance; /* > 0 (CR_INTEG_MINO) */
-    double step_multiplier;
-    double horizon_epsilon;
-    long max_steps;
-    double max_turns;
-    int samples; /* 1..CR_MAX_SAMPLES rays per pixel side; 0 means 1 */
-} cr_trace_settings;
-
 /* Evaluate frame k of n (0 <= k < n) at width x height pixels into *f
  * (spheres written to sphere_buf, which must hold s->n_spheres entries and
- * outlive f), including cr_frame_prepare. ts == NULL takes the CR_DEFAULT_*
- * settings of trace.h. Messages name the frame as "frame k of n" (k counted
+ * outlive f), including cr_frame_prepare. ts == NULL takes the defaults
+ * (cr_trace_defaults). Messages name the frame as "frame k of n" (k counted
  * from 0, like the output files) when n > 1. Returns -1 with a clear message when this frame's values
  * are physically impossible (ERRATA item 4): no horizon (M <= 0 or
  * a^2 + Q^2 > M^2), observer at or inside the horizon or inside the

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/trace.h"
 #include "yamlutil.h"
 
 /* Largest configuration file read (bytes). */
@@ -21,57 +20,124 @@ void cr_sysconfig_defaults(cr_sysconfig *c)
     memset(c, 0, sizeof *c);
     c->gpu_enabled[0] = 1;
     c->cpu_threads = 0;
-    c->integrator = CR_DEFAULT_INTEGRATOR;
-    c->tolerance = CR_DEFAULT_TOLERANCE;
-    c->horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
-    c->step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
-    c->max_steps = CR_DEFAULT_MAX_STEPS;
-    c->max_turns = CR_DEFAULT_MAX_TURNS;
-    c->samples = 1;
+    c->raytracer = cr_trace_defaults();
     c->video_fps = CR_VIDEO_DEFAULT_FPS;
     c->video_keep_frames = 1;
 }
 
-/* A finite number > 0. */
-static int get_positive(cr_yaml *y, const cr_yaml_field *f, const char *section, double *out,
-                        cr_err *err)
+/* "a" or "an" before word. */
+static const char *article(const char *word)
 {
-    char path[CR_YAML_PATH], got[96];
-    double v;
-    if (!f->value)
-        return 0;
-    cr_yaml_path_key(path, sizeof path, section, f->key);
-    if (cr_yaml_number(y, f->value, path, &v, err))
-        return -1;
-    if (!(v > 0.0)) {
-        cr_yaml_describe(f->value, got, sizeof got);
-        return cr_yaml_fail(y, f->value, path, err, "expected a positive number, got %s", got);
-    }
-    *out = v;
-    return 0;
+    return word[0] && strchr("aeiou", word[0]) ? "an" : "a";
 }
 
-/* raytracer.integrator: one of the names of cr_integrator_name. */
-static int get_integrator(cr_yaml *y, const cr_yaml_field *f, int *out, cr_err *err)
+/* An ENUM setting: a word of its names kind, in any letter case. */
+static int get_word(cr_yaml *y, const cr_yaml_field *f, const cr_setting *s, const char *path,
+                    cr_trace_settings *ts, cr_err *err)
 {
+    cr_names kind = (cr_names)s->int_lo;
     char got[96];
     int v = -1;
-    if (!f->value)
-        return 0;
     if (f->value->type == YAML_SCALAR_NODE && !cr_yaml_is_null(f->value))
-        v = cr_integrator_parse((const char *)f->value->data.scalar.value,
-                                f->value->data.scalar.length);
+        v = cr_name_parse_folded(kind, (const char *)f->value->data.scalar.value,
+                                 f->value->data.scalar.length);
     if (v < 0) {
         cr_yaml_describe(f->value, got, sizeof got);
         if (f->value->type != YAML_SCALAR_NODE || cr_yaml_is_null(f->value))
-            return cr_yaml_fail(y, f->value, "raytracer.integrator", err,
-                                "expected an integrator name (one of: %s), got %s",
-                                cr_integrator_names(), got);
-        return cr_yaml_fail(y, f->value, "raytracer.integrator", err,
-                            "unknown integrator %s (expected one of: %s)", got,
-                            cr_integrator_names());
+            return cr_yaml_fail(y, f->value, path, err, "expected %s %s name (one of: %s), got %s",
+                                article(s->key), s->key, cr_names_list(kind), got);
+        return cr_yaml_fail(y, f->value, path, err, "unknown %s %s (expected one of: %s)", s->key,
+                            got, cr_names_list(kind));
     }
-    *out = v;
+    cr_setting_set_int(s, ts, v);
+    return 0;
+}
+
+/* A REAL setting: a finite number within its limits. */
+static int get_real(cr_yaml *y, const cr_yaml_field *f, const cr_setting *s, const char *path,
+                    cr_trace_settings *ts, cr_err *err)
+{
+    char got[96];
+    double v;
+    if (cr_yaml_number(y, f->value, path, &v, err))
+        return -1;
+    if (!(v > s->real_lo && v < s->real_hi)) {
+        cr_yaml_describe(f->value, got, sizeof got);
+        if (s->real_lo == 0.0 && s->real_hi == INFINITY)
+            return cr_yaml_fail(y, f->value, path, err, "expected a positive number, got %s",
+                                got);
+        return cr_yaml_fail(y, f->value, path, err,
+                            "expected a number above %g and below %g, got %s", s->real_lo,
+                            s->real_hi, got);
+    }
+    cr_setting_set_real(s, ts, v);
+    return 0;
+}
+
+/* A LONG or SIDE setting: an integer within its limits. */
+static int get_integer(cr_yaml *y, const cr_yaml_field *f, const cr_setting *s,
+                       const char *path, cr_trace_settings *ts, cr_err *err)
+{
+    char what[96];
+    long v;
+    if (s->int_lo == 1 && s->int_hi == LONG_MAX)
+        snprintf(what, sizeof what, "a positive integer");
+    else
+        snprintf(what, sizeof what, "an integer from %ld to %ld", s->int_lo, s->int_hi);
+    if (cr_yaml_int(y, f->value, path, s->int_lo, s->int_hi, what, &v, err))
+        return -1;
+    cr_setting_set_int(s, ts, v);
+    return 0;
+}
+
+/* Setting s from field f when present. */
+static int get_setting(cr_yaml *y, const cr_yaml_field *f, const cr_setting *s,
+                       cr_trace_settings *ts, cr_err *err)
+{
+    char path[CR_YAML_PATH];
+    if (!f->value)
+        return 0;
+    cr_setting_path(s, path, sizeof path);
+    switch (s->type) {
+    case CR_SETTING_ENUM:
+        return get_word(y, f, s, path, ts, err);
+    case CR_SETTING_REAL:
+        return get_real(y, f, s, path, ts, err);
+    default: /* LONG, SIDE */
+        return get_integer(y, f, s, path, ts, err);
+    }
+}
+
+/* Most keys of one section: the caller's own and the table's. */
+#define SECTION_MAX_KEYS 64
+
+/* Section sec (present) named name: its keys are the caller's own[0..n_own-1],
+ * which the caller reads from own afterwards, and the settings.def lines of
+ * that section, read into c->raytracer here (in table order). Unknown keys
+ * are refused with the list of both, own keys first. */
+static int parse_section(cr_yaml *y, const cr_yaml_field *sec, const char *name,
+                         cr_yaml_field *own, int n_own, cr_sysconfig *c, cr_err *err)
+{
+    cr_yaml_field f[SECTION_MAX_KEYS];
+    const cr_setting *set[SECTION_MAX_KEYS];
+    int n = 0, i;
+    for (i = 0; i < n_own && n < SECTION_MAX_KEYS; i++) {
+        f[n] = own[i];
+        set[n++] = NULL;
+    }
+    for (i = 0; i < cr_settings_count && n < SECTION_MAX_KEYS; i++) {
+        if (strcmp(cr_settings[i].section, name) != 0)
+            continue;
+        f[n] = (cr_yaml_field)OPT(cr_settings[i].key);
+        set[n++] = &cr_settings[i];
+    }
+    if (cr_yaml_fields(y, sec->value, name, sec->key_node, f, n, err))
+        return -1;
+    for (i = 0; i < n; i++)
+        if (set[i] && get_setting(y, &f[i], set[i], &c->raytracer, err))
+            return -1;
+    for (i = 0; i < n_own; i++)
+        own[i] = f[i];
     return 0;
 }
 
@@ -126,7 +192,7 @@ static int parse_cpu(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_e
     cr_yaml_field f[1] = {OPT("threads")};
     char what[64];
     long v;
-    if (cr_yaml_fields(y, sec->value, "cpu", sec->key_node, f, 1, err))
+    if (parse_section(y, sec, "cpu", f, 1, c, err))
         return -1;
     if (!f[0].value)
         return 0;
@@ -139,32 +205,7 @@ static int parse_cpu(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_e
 
 static int parse_raytracer(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_err *err)
 {
-    enum { EPS, MULT, STEPS, TURNS, INTEG, TOL, SAMPLES, N };
-    cr_yaml_field f[N] = {OPT("horizon_epsilon"), OPT("step_multiplier"), OPT("max_steps"),
-                          OPT("max_turns"),       OPT("integrator"),      OPT("tolerance"),
-                          OPT("samples")};
-    const char *p = "raytracer";
-    char what[64];
-    long samples;
-    if (cr_yaml_fields(y, sec->value, p, sec->key_node, f, N, err) ||
-        get_integrator(y, &f[INTEG], &c->integrator, err) ||
-        get_positive(y, &f[TOL], p, &c->tolerance, err) ||
-        get_positive(y, &f[EPS], p, &c->horizon_epsilon, err) ||
-        get_positive(y, &f[MULT], p, &c->step_multiplier, err) ||
-        get_positive(y, &f[TURNS], p, &c->max_turns, err))
-        return -1;
-    if (f[STEPS].value &&
-        cr_yaml_int(y, f[STEPS].value, "raytracer.max_steps", 1, LONG_MAX, "a positive integer",
-                    &c->max_steps, err))
-        return -1;
-    snprintf(what, sizeof what, "an integer from 1 to %d", CR_MAX_SAMPLES);
-    if (f[SAMPLES].value) {
-        if (cr_yaml_int(y, f[SAMPLES].value, "raytracer.samples", 1, CR_MAX_SAMPLES, what,
-                        &samples, err))
-            return -1;
-        c->samples = (int)samples;
-    }
-    return 0;
+    return parse_section(y, sec, "raytracer", NULL, 0, c, err);
 }
 
 static int parse_video(cr_yaml *y, const cr_yaml_field *sec, cr_sysconfig *c, cr_err *err)

@@ -262,15 +262,14 @@ static void cr_info_config(FILE *fp, const cr_sysconfig *c)
         fprintf(fp, "  %-22s %d\n", "CPU threads", c->cpu_threads);
     else
         fprintf(fp, "  %-22s all online cores\n", "CPU threads");
-    fprintf(fp, "  %-22s %.10g\n", "horizon epsilon", c->horizon_epsilon);
-    fprintf(fp, "  %-22s %s\n", "integrator", cr_integrator_name(c->integrator));
-    fprintf(fp, "  %-22s %.10g%s\n", "tolerance", c->tolerance,
-            c->integrator == CR_INTEG_MINO ? "" : " (mino only, unused)");
-    fprintf(fp, "  %-22s %.10g%s\n", "step multiplier", c->step_multiplier,
-            c->integrator == CR_INTEG_RK4 ? "" : " (rk4 only, unused)");
-    fprintf(fp, "  %-22s %ld\n", "max steps per ray", c->max_steps);
-    fprintf(fp, "  %-22s %.10g\n", "max turns per ray", c->max_turns);
-    fprintf(fp, "  %-22s %d x %d per pixel\n", "samples", c->samples, c->samples);
+    for (int i = 0; i < cr_settings_count; i++) {
+        const cr_setting *st = cr_setting_in_order(CR_SETTING_INFO_ORDER, i);
+        char v[128];
+        if (!st)
+            continue;
+        cr_setting_format(st, &c->raytracer, v, sizeof v);
+        fprintf(fp, "  %-22s %s\n", st->label, v);
+    }
     fprintf(fp, "  %-22s %s\n", "verbose", cr_yes_no(c->verbose));
     fprintf(fp, "  %-22s %s\n", "quiet", cr_yes_no(c->quiet));
     fprintf(fp, "  %-22s %s\n", "keep log", cr_yes_no(c->keep_log));

@@ -72,13 +72,7 @@ static void scene_defaults(cr_web *w)
     s->sky_at_infinity = 1;
     s->spheres = w->spheres;
     s->n_spheres = 0;
-    w->ts.integrator = CR_DEFAULT_INTEGRATOR;
-    w->ts.tolerance = CR_DEFAULT_TOLERANCE;
-    w->ts.step_multiplier = CR_DEFAULT_STEP_MULTIPLIER;
-    w->ts.horizon_epsilon = CR_DEFAULT_HORIZON_EPSILON;
-    w->ts.max_steps = CR_DEFAULT_MAX_STEPS;
-    w->ts.max_turns = CR_DEFAULT_MAX_TURNS;
-    w->ts.samples = 1;
+    w->ts = cr_trace_defaults();
 }
 
 cr_web *cr_web_new(void)
@@ -208,23 +202,23 @@ static int set_accretion(cr_web *w, const char *k, double v)
     return 0;
 }
 
+/* A number-valued raytracer setting by key (settings.def). */
 static int set_raytracer(cr_trace_settings *ts, const char *k, double v)
 {
-    if (!strcmp(k, "tolerance"))
-        ts->tolerance = v;
-    else if (!strcmp(k, "step_multiplier"))
-        ts->step_multiplier = v;
-    else if (!strcmp(k, "horizon_epsilon"))
-        ts->horizon_epsilon = v;
-    else if (!strcmp(k, "max_steps"))
-        ts->max_steps = v > -9e18 && v < 9e18 ? (long)v : -1;
-    else if (!strcmp(k, "max_turns"))
-        ts->max_turns = v;
-    else if (!strcmp(k, "samples"))
-        ts->samples = int_of(v);
-    else
-        return -1;
-    return 0;
+    for (int i = 0; i < cr_settings_count; i++) {
+        const cr_setting *s = &cr_settings[i];
+        if (strcmp(s->section, "raytracer") != 0 || strcmp(s->key, k) != 0 ||
+            s->type == CR_SETTING_ENUM)
+            continue;
+        if (s->type == CR_SETTING_REAL)
+            cr_setting_set_real(s, ts, v);
+        else if (s->type == CR_SETTING_LONG) /* -1 (refused) for NaN or out of range */
+            cr_setting_set_int(s, ts, v > -9e18 && v < 9e18 ? (long)v : -1);
+        else
+            cr_setting_set_int(s, ts, int_of(v));
+        return 0;
+    }
+    return -1;
 }
 
 /* key = "section.name": the part after the dot when section matches. */

@@ -45,10 +45,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (i = 0; i < CR_MAX_GPUS; i++)
         CHECK(c.gpu_enabled[i] == 0 || c.gpu_enabled[i] == 1);
     CHECK(c.cpu_threads >= 0 && c.cpu_threads <= CR_SYSCONFIG_MAX_THREADS);
-    CHECK(c.horizon_epsilon > 0.0 && isfinite(c.horizon_epsilon));
-    CHECK(c.step_multiplier > 0.0 && isfinite(c.step_multiplier));
-    CHECK(c.max_steps > 0);
-    CHECK(c.max_turns > 0.0 && isfinite(c.max_turns));
+    CHECK(c.raytracer.horizon_epsilon > 0.0 && isfinite(c.raytracer.horizon_epsilon));
+    CHECK(c.raytracer.step_multiplier > 0.0 && isfinite(c.raytracer.step_multiplier));
+    CHECK(c.raytracer.max_steps > 0);
+    CHECK(c.raytracer.max_turns > 0.0 && isfinite(c.raytracer.max_turns));
     CHECK(c.verbose == 0 || c.verbose == 1);
     CHECK(c.quiet == 0 || c.quiet == 1);
     CHECK(c.keep_log == 0 || c.keep_log == 1);
