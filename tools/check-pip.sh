@@ -80,7 +80,9 @@ for py in "${pythons[@]}"; do
     *-"$tag"-"$tag"-*linux*.whl | *-"$tag"-"$tag"-*macosx*.whl) ;;
     *) fail "Python $ver: $(basename "$whl") is not a binary wheel for $tag" ;;
     esac
-    "$env/bin/python" -m zipfile -l "$whl" | grep -q "curray/_curray.*\.so" ||
+    # the whole listing first: grep -q would close the pipe early (pipefail)
+    listing=$("$env/bin/python" -m zipfile -l "$whl") || fail "Python $ver: cannot list $whl"
+    grep -q "curray/_curray.*\.so" <<<"$listing" ||
         fail "Python $ver: the wheel holds no compiled curray/_curray*.so"
     "$uv" venv -q --seed -p "$py" "$T/wenv$n"
     "$T/wenv$n/bin/pip" install -q "$whl" || fail "Python $ver: pip install of the wheel"
