@@ -31,7 +31,7 @@ for v in "O2:-O2" "O3:-O3" "O3-simd:-O3 -msimd128 -mnontrapping-fptoint"; do
 done
 if command -v emcc >/dev/null; then
   # shellcheck disable=SC2086
-  NODE_PATH=/usr/share/nodejs emcc -O3 $wflags $src -o "$out/emcc-O3.js" 2>"$out/emcc.err" &&
+  NODE_PATH=/usr/share/nodejs emcc -O3 -sALLOW_MEMORY_GROWTH=1 $wflags $src -o "$out/emcc-O3.js" 2>"$out/emcc.err" &&
     variants="$variants emcc-O3" || echo "emcc failed: $(head -1 "$out/emcc.err")"
 fi
 run() {

@@ -10,7 +10,8 @@ command line.
    the page imports it, renders it, and its pixels equal the command line's
    render of the YAML the page exports, at the same size: every pixel's
    outcome identical, every colour channel within 1 level (d_0.csv of
-   curray -t d holds both).
+   curray -t d holds both), and the page's redshift and bolometric views
+   equal to r_0.png and b_0.png within 1 level.
 3. Every control changes the exported YAML as documented (CONTROLS), and a
    bad value (a spin without a horizon, an orbit that does not exist) shows
    the command line's own message for the exported file.
@@ -27,6 +28,7 @@ import shutil
 import subprocess
 import sys
 import time
+import zlib
 
 try:
     from selenium import webdriver
@@ -235,7 +237,49 @@ def page_pixels(d):
     return w, h, base64.b64decode(r[2]), base64.b64decode(r[3]), base64.b64decode(r[4])
 
 
-def cli_render(curray, yaml_text, work, scenes_dir, w, h):
+def read_png(path):
+    """(width, height, rows of bytes RGB) of an 8-bit RGB or RGBA PNG, not
+    interlaced (what curray writes)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    pos, idat, w = 8, b"", 0
+    while pos < len(data):
+        n = int.from_bytes(data[pos:pos + 4], "big")
+        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            w, h = int.from_bytes(body[0:4], "big"), int.from_bytes(body[4:8], "big")
+            depth, ctype, interlace = body[8], body[9], body[12]
+            if depth != 8 or ctype not in (2, 6) or interlace:
+                fail("%s: unexpected PNG format" % path)
+            bpp = 3 if ctype == 2 else 4
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw = zlib.decompress(idat)
+    stride = w * bpp
+    rows, prev = [], bytearray(stride)
+    for y in range(h):
+        ft, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - bpp] if i >= bpp else 0
+            b = prev[i]
+            c = prev[i - bpp] if i >= bpp else 0
+            if ft == 1:
+                line[i] = (line[i] + a) & 255
+            elif ft == 2:
+                line[i] = (line[i] + b) & 255
+            elif ft == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif ft == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(bytes(line[i] for i in range(stride) if i % bpp < 3))
+        prev = line
+    return w, h, rows
+
+
+def cli_render(curray, yaml_text, work, scenes_dir, w, h, maps=False):
     os.makedirs(work, exist_ok=True)
     for t in ("sky.png", "sky_grid.png"):
         shutil.copyfile(os.path.join(scenes_dir, t), os.path.join(work, t))
@@ -244,7 +288,7 @@ def cli_render(curray, yaml_text, work, scenes_dir, w, h):
     out = os.path.join(work, "out")
     shutil.rmtree(out, ignore_errors=True)
     p = subprocess.run([curray, "-s", os.path.join(work, "scene.yml"), "-o", out, "-x", str(w),
-                        "-y", str(h), "-t", "d", "-q", "true", "-a", "true", "--backend", "cpu"],
+                        "-y", str(h), "-t", "dcrb" if maps else "d", "-q", "true", "-a", "true", "--backend", "cpu"],
                        capture_output=True, text=True)
     return p, os.path.join(out, "d_0.csv")
 
@@ -254,7 +298,7 @@ def compare(name, d, curray, scenes_dir, out_dir):
     if any(v == 255 for v in level):
         fail("%s: the page's render is not complete (pixels not traced)" % name)
     yaml_text = d.execute_script("return window.crApp.yaml();")
-    p, path = cli_render(curray, yaml_text, os.path.join(out_dir, name), scenes_dir, w, h)
+    p, path = cli_render(curray, yaml_text, os.path.join(out_dir, name), scenes_dir, w, h, True)
     if p.returncode != 0:
         fail("%s: curray refused the exported YAML: %s\n%s" % (name, p.stderr, yaml_text))
     n_out = n_col = worst = 0
@@ -276,8 +320,22 @@ def compare(name, d, curray, scenes_dir, out_dir):
                 first.append("(%d, %d): cli outcome %d rgb %s,%s,%s; page outcome %d rgb %d,%d,%d" % (
                     x, y, oc, row["r"], row["g"], row["b"], outcome[k], rgb[9 * k], rgb[9 * k + 1],
                     rgb[9 * k + 2]))
+    # the redshift and bolometric views against r_0.png and b_0.png
+    maps = []
+    for view, letter in ((1, "r"), (2, "b")):
+        png = os.path.join(os.path.dirname(path), "%s_0.png" % letter)
+        if not os.path.exists(png):
+            continue
+        pw, ph, rows = read_png(png)
+        off = sum(1 for y in range(ph) for x in range(pw)
+                  if max(abs(rows[y][3 * x + c] - rgb[9 * (y * w + x) + 3 * view + c])
+                         for c in range(3)) > 1)
+        maps.append("%s_0.png: %d pixels off by more than 1" % (letter, off))
+        if off:
+            fail("%s: the page's %s view differs from %s_0.png in %d pixels" % (
+                name, "redshift" if view == 1 else "bolometric", letter, off))
     print("%s: %dx%d, outcomes %s: %d outcomes differ, %d colours off by more than 1, worst "
-          "channel difference %d" % (name, w, h, counts, n_out, n_col, worst))
+          "channel difference %d; %s" % (name, w, h, counts, n_out, n_col, worst, ", ".join(maps)))
     if n_out or n_col:
         fail("%s: the page and the command line differ:\n  %s" % (name, "\n  ".join(first)))
     return p
