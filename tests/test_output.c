@@ -27,6 +27,7 @@
 #include "output/info.h"
 #include "base/log.h"
 #include "output/output.h"
+#include "input/scene.h"
 #include "base/png_io.h"
 #include "testfs.h"
 
@@ -935,7 +936,7 @@ static void test_info(void **state)
     st[1].frame = 1;
 
     cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 640, 480, 3, "icrd", "9.8.7",
-                       NULL, NULL, NULL};
+                       NULL, NULL, NULL, NULL, NULL};
     assert_int_equal(cr_info_write(f->dir, &run, &s, &cfg, st, 2, &err), 0);
     join(path, f, "info.txt");
     char *t = read_all(path, NULL);
@@ -1014,15 +1015,129 @@ static void test_info(void **state)
     assert_int_equal(temps, 0);
 }
 
-/* info.txt of a Keplerian disc (issue 12): model, sense, ISCO in M and in
- * the scene's units, effective inner radius, peak temperature; none of the
- * chessboard's lines. M = 2, a = 0 then 1.8 (a/M = 0.9): r_isco = 6 M then
- * BPT's prograde 2.3208830 M (4.641766 in the scene's units). */
+/* The table of output types: every letter accepted in one place, every other
+ * byte refused with the message -t gives, the implied types, the per-frame
+ * files' names and order, and each per-frame row's writer writing the file
+ * its name says. */
+static void test_output_types(void **state)
+{
+    fixture *f = *state;
+    static const char *const list = "use any of i, c, r, d, b, f, v";
+    cr_err err;
+    char want[256], one[2] = {0, 0}, bad[3] = {'c', 0, 0}, out[16], path[4096];
+    int n = cr_output_type_count(), frames = 0;
+
+    assert_int_equal(n, 7);
+    for (int i = 0; i < n; i++) {
+        const cr_output_type *t = cr_output_type_at(i);
+        assert_ptr_equal(cr_output_type_find(t->letter), t);
+        assert_true((t->scope == CR_OUTPUT_PER_FRAME) == (t->write != NULL));
+        one[0] = t->letter;
+        if (t->available && !t->available()) {
+            assert_int_equal(cr_output_types_check(one, &err), -1);
+            assert_string_equal(err.msg, t->unavailable);
+        } else {
+            assert_int_equal(cr_output_types_check(one, &err), 0);
+        }
+        frames += t->scope == CR_OUTPUT_PER_FRAME;
+    }
+    assert_int_equal(frames, 5);
+    assert_null(cr_output_type_at(n));
+    assert_null(cr_output_type_at(-1));
+    for (int c = 1; c < 256; c++) {
+        if (cr_output_type_find((char)c))
+            continue;
+        bad[1] = (char)c;
+        assert_int_equal(cr_output_types_check(bad, &err), -1);
+        snprintf(want, sizeof want, "-t: unknown output type '%c' in '%s'; %s", c, bad, list);
+        assert_string_equal(err.msg, want);
+    }
+    assert_int_equal(cr_output_types_check("", &err), -1);
+    snprintf(want, sizeof want, "-t: empty output type; %s", list);
+    assert_string_equal(err.msg, want);
+
+    assert_true(cr_output_types_has("v", 'c'));
+    assert_true(cr_output_types_has("icr", 'r'));
+    assert_false(cr_output_types_has("icr", 'd'));
+    assert_false(cr_output_types_has("icr", '\0'));
+    cr_output_frame_letters("vdi", out, sizeof out);
+    assert_string_equal(out, "cd");
+    cr_output_frame_letters("fbdrcfcv", out, sizeof out);
+    assert_string_equal(out, "crdbf");
+    cr_output_frame_letters("iv", out, sizeof out);
+    assert_string_equal(out, "c");
+    cr_output_frame_letters("i", out, sizeof out);
+    assert_string_equal(out, "");
+    cr_output_frame_letters("crdbf", out, 3);
+    assert_string_equal(out, "cr");
+
+    assert_int_equal(cr_output_file_name('c', 3, out, sizeof out), 0);
+    assert_string_equal(out, "c_3.png");
+    assert_int_equal(cr_output_file_name('d', 0, out, sizeof out), 0);
+    assert_string_equal(out, "d_0.csv");
+    assert_int_equal(cr_output_file_name('f', 12, out, sizeof out), 0);
+    assert_string_equal(out, "f_12.fits");
+    assert_int_equal(cr_output_file_name('b', 7, out, sizeof out), 0);
+    assert_string_equal(out, "b_7.png");
+    assert_int_equal(cr_output_file_name('i', 0, out, sizeof out), -1);
+    assert_int_equal(cr_output_file_name('v', 0, out, sizeof out), -1);
+    assert_int_equal(cr_output_file_name('z', 0, out, sizeof out), -1);
+    assert_int_equal(cr_output_file_name('c', 123456, out, 8), -1);
+
+    /* each per-frame writer, through its row, writes the file of its name */
+    {
+        cr_scene s;
+        cr_frame fr;
+        cr_pixel px[6 * 4];
+        memset(&s, 0, sizeof s);
+        s.path = "types.yml";
+        s.m = (cr_anim){1, 1};
+        s.obs_r = (cr_anim){30, 30};
+        s.obs_theta = (cr_anim){CR_PI / 2, CR_PI / 2};
+        s.hfov = (cr_anim){CR_PI / 4, CR_PI / 4};
+        assert_int_equal(cr_scene_frame(&s, 0, 1, 6, 4, NULL, &fr, NULL, &err), 0);
+        memset(px, 0, sizeof px);
+        for (int i = 0; i < 6 * 4; i++)
+            px[i].outcome = CR_OUT_SKY;
+        cr_frame_output o = {f->dir, 2, 3, &fr, px, &s};
+        for (int i = 0; i < n; i++) {
+            const cr_output_type *t = cr_output_type_at(i);
+            if (t->scope != CR_OUTPUT_PER_FRAME || (t->available && !t->available()))
+                continue;
+            assert_int_equal(cr_output_file_name(t->letter, 2, out, sizeof out), 0);
+            join(path, f, out);
+            assert_int_equal(access(path, F_OK), -1);
+            assert_int_equal(t->write(&o, &err), 0);
+            assert_int_equal(access(path, F_OK), 0);
+        }
+    }
+}
+
+/* The first and last frame of a run of n frames of s, as the run passes
+ * them to info.txt (fr[0], fr[1]). */
+static void info_ends(const cr_scene *s, int n, cr_frame fr[2], cr_run_info *run)
+{
+    cr_err err;
+    memset(run, 0, sizeof *run);
+    run->frames = n;
+    assert_int_equal(cr_scene_frame(s, 0, n, 64, 48, NULL, &fr[0], NULL, &err), 0);
+    assert_int_equal(cr_scene_frame(s, n - 1, n, 64, 48, NULL, &fr[1], NULL, &err), 0);
+    run->first = &fr[0];
+    run->last = &fr[1];
+}
+
+/* info.txt of a Keplerian disc: model, sense, ISCO in M and in the scene's
+ * units, effective inner radius, peak temperature, from the run's first and
+ * last frame; none of the chessboard's lines. M = 2, a = 0 then 1.8 (a/M =
+ * 0.9): r_isco = 6 M then BPT's prograde 2.3208830 M (4.641766 in the
+ * scene's units). */
 static void test_info_keplerian(void **state)
 {
     fixture *f = *state;
     cr_scene s;
     cr_sysconfig cfg;
+    cr_run_info run;
+    cr_frame fr[2];
     cr_err err;
     char path[4096];
     char *t;
@@ -1041,7 +1156,8 @@ static void test_info_keplerian(void **state)
     s.disc_has_r_in = 1;
     s.disc_temperature = 12000;
     cr_sysconfig_defaults(&cfg);
-    assert_int_equal(cr_info_write(f->dir, NULL, &s, &cfg, NULL, 0, &err), 0);
+    info_ends(&s, 5, fr, &run);
+    assert_int_equal(cr_info_write(f->dir, &run, &s, &cfg, NULL, 0, &err), 0);
     join(path, f, "info.txt");
     t = read_all(path, NULL);
     static const char *const want[] = {
@@ -1057,11 +1173,30 @@ static void test_info_keplerian(void **state)
     assert_null(strstr(t, "radial rings"));
     assert_null(strstr(t, "colour 1"));
     free(t);
+    /* one frame: the values of the frame traced (a = 0), not of the
+       animation's end */
+    info_ends(&s, 1, fr, &run);
+    assert_int_equal(cr_info_write(f->dir, &run, &s, &cfg, NULL, 0, &err), 0);
+    t = read_all(path, NULL);
+    static const char *const want1[] = {
+        "  r_isco                 6 M (12 in the scene's units)\n",
+        "  effective inner radius 6 M (12 in the scene's units)\n",
+    };
+    expect_lines(t, want1, sizeof want1 / sizeof want1[0]);
+    free(t);
+    /* without frames, the lines derived per frame are left out */
+    assert_int_equal(cr_info_write(f->dir, NULL, &s, &cfg, NULL, 0, &err), 0);
+    t = read_all(path, NULL);
+    assert_non_null(strstr(t, "  orbit sense            prograde\n"));
+    assert_null(strstr(t, "r_isco"));
+    assert_null(strstr(t, "effective inner radius"));
+    free(t);
     /* retrograde, inner radius omitted: the ISCO */
     s.a = (cr_anim){1.8, 1.8};
     s.disc_retrograde = 1;
     s.disc_has_r_in = 0;
-    assert_int_equal(cr_info_write(f->dir, NULL, &s, &cfg, NULL, 0, &err), 0);
+    info_ends(&s, 1, fr, &run);
+    assert_int_equal(cr_info_write(f->dir, &run, &s, &cfg, NULL, 0, &err), 0);
     t = read_all(path, NULL);
     static const char *const want2[] = {
         "  orbit sense            retrograde (clockwise about +z)\n",
@@ -1172,7 +1307,7 @@ static void test_info_appends(void **state)
     char path[4096], want[128], *prev = NULL;
     size_t prev_len = 0, first_rec = 0, max_rec = 0;
     int temps, kernel_counts = wchar_now() >= 0;
-    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 1, 1, N, "i", "9.8.7", NULL, NULL, NULL};
+    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 1, 1, N, "i", "9.8.7", NULL, NULL, NULL, NULL, NULL};
     cr_sysconfig cfg;
 
     assert_non_null(st);
@@ -1261,7 +1396,7 @@ static void test_info_resume(void **state)
 {
     fixture *f = *state;
     cr_run_info run = {"s.yml", NULL, "cpu", 2, 1, 4, "i", "9.8.7",
-                       "0123456789abcdef", "c_<k>.png for k = 4-7", "2026-01-02 03:04:05 +0000"};
+                       "0123456789abcdef", "c_<k>.png for k = 4-7", "2026-01-02 03:04:05 +0000", NULL, NULL};
     char *bodies[4] = {NULL, "Frame 1\n  rays 2\n", NULL, "Frame 3\n  rays 2\n"};
     int order[2] = {3, 1};
     cr_frame_stats st;
@@ -1306,7 +1441,7 @@ static void test_info_append_fails(void **state)
     char path[4096], *before, *t;
     size_t before_len, len;
     struct rlimit old, lim;
-    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 2, 1, 5, "i", "9.8.7", NULL, NULL, NULL};
+    cr_run_info run = {"scenes/demo.yml", NULL, "cpu", 2, 1, 5, "i", "9.8.7", NULL, NULL, NULL, NULL, NULL};
 
     memset(px, 0, sizeof px);
     px[0].outcome = CR_OUT_HORIZON;
@@ -1602,6 +1737,7 @@ int main(void)
         cmocka_unit_test(test_stats),
         cmocka_unit_test_setup_teardown(test_info, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_keplerian, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_output_types, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_at_infinity, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_appends, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_append_fails, setup, teardown),

@@ -253,10 +253,15 @@ static shot *render(const char *path, int k, int n, double dphi)
     run.frames = n;
     run.output_types = "icrd";
     run.version = "test";
-    if (cr_output_color_png(s->dir, k, s->px, W, H, &err) ||
-        cr_output_redshift_png(s->dir, k, s->px, W, H, s->scene.redshift_sky, &err) ||
-        cr_output_csv(s->dir, k, s->px, W, H, &err) ||
-        cr_info_write(s->dir, &run, &s->scene, &cfg, &st, 1, &err))
+    run.first = run.last = &s->f;
+    {
+        /* each per-frame type of "crd" through its row of the output table */
+        cr_frame_output o = {s->dir, k, n, &s->f, s->px, &s->scene};
+        for (const char *t = "crd"; *t; t++)
+            if (cr_output_type_find(*t)->write(&o, &err))
+                fail_msg("%s: %c: %s", path, *t, err.msg);
+    }
+    if (cr_info_write(s->dir, &run, &s->scene, &cfg, &st, 1, &err))
         fail_msg("%s: %s", path, err.msg);
 
     /* read back */

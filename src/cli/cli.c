@@ -7,7 +7,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "../output/fits.h"
+#include "../output/types.h"
 #include "../input/sysconfig.h"
 
 enum { OPT_VERSION = 1000, OPT_BACKEND, OPT_THREADS, OPT_RESUME, OPT_TRACE, OPT_EXAMPLE };
@@ -217,7 +217,6 @@ int cr_cli_parse(int argc, char **argv, int prog_cpu_only, cr_cli *c, cr_err *er
 
 int cr_cli_check_render(const cr_cli *c, cr_err *err)
 {
-    const char *p;
     if (!c->scene_path)
         return cr_err_set(err, "no scene file given (-s); see -h");
     if (!c->output_dir)
@@ -237,15 +236,7 @@ int cr_cli_check_render(const cr_cli *c, cr_err *err)
                               c->trace_i, c->trace_j, c->width, c->height, c->width, c->height);
         return 0; /* -t is not used */
     }
-    if (!c->output_type[0])
-        return cr_err_set(err, "-t: empty output type; use any of i, c, r, d, b, f, v");
-    for (p = c->output_type; *p; p++)
-        if (!strchr("icrdbfv", *p))
-            return cr_err_set(err, "-t: unknown output type '%c' in '%s'; use any of i, c, r, d, b, f, v",
-                              *p, c->output_type);
-    if (strchr(c->output_type, 'f') && !cr_fits_available())
-        return cr_err_set(err, CR_FITS_MISSING);
-    return 0;
+    return cr_output_types_check(c->output_type, err);
 }
 
 int cr_cli_answer_yes(const char *line)

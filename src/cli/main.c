@@ -81,7 +81,8 @@ typedef struct cr_run {
     cr_resume resume; /* --resume: the frames kept from the earlier run */
     cr_dirlock dirlock; /* the output folder, this run's alone (lock.h) */
     int n_kept;       /* how many */
-    char frame_types[16]; /* the per-frame files written: -t, plus c for v */
+    char frame_types[16]; /* the per-frame types written (cr_output_frame_letters) */
+    cr_frame ends[2];     /* frames 0 and n-1 (cr_check_frames), for info.txt */
     /* MPI (mpi.h; curray_mpi): this rank and the number of ranks (0 of 1
      * without MPI); a one-frame run spread by rows: its frame, the pixels
      * gathered on rank 0, the next block of rows and the rows finished */
@@ -119,8 +120,7 @@ typedef struct cr_run {
  * frames, so v implies c. */
 static int cr_has_type(const cr_run *run, char t)
 {
-    return strchr(run->cli.output_type, t) != NULL ||
-           (t == 'c' && strchr(run->cli.output_type, 'v') != NULL);
+    return cr_output_types_has(run->cli.output_type, t);
 }
 
 /* Progress of the whole run: frames finished plus the finished parts of the
@@ -169,36 +169,27 @@ static void cr_remove_frame_files(const cr_run *run, int k, const char *types)
 {
     char name[64], path[4096];
     for (; *types; types++) {
-        if (cr_frame_file_name(*types, k, name, sizeof name) == 0 &&
+        if (cr_output_file_name(*types, k, name, sizeof name) == 0 &&
             cr_path_join(path, sizeof path, run->cli.output_dir, name) == 0)
             unlink(path);
     }
 }
 
-/* Write frame k's file of type t (c, r, d, b or f), announced to the Ctrl-C
- * handling (interrupt.h). */
-static int cr_write_frame_file(cr_worker *w, char t, int k, const cr_pixel *px, int width,
-                               int height, cr_err *err)
+/* Write frame k's file of per-frame type t (types.h), frame f traced into
+ * px, announced to the Ctrl-C handling (interrupt.h). */
+static int cr_write_frame_file(cr_worker *w, char t, int k, const cr_frame *f,
+                               const cr_pixel *px, cr_err *err)
 {
     cr_run *run = w->run;
-    const char *dir = run->cli.output_dir;
+    const cr_output_type *type = cr_output_type_find(t);
+    cr_frame_output o = {run->cli.output_dir, k, (int)run->cli.frames, f, px, &run->scene};
     char name[64];
     int rc;
-    if (cr_frame_file_name(t, k, name, sizeof name) != 0)
+    if (!type || !type->write || cr_output_file_name(t, k, name, sizeof name) != 0)
         return cr_err_set(err, "no frame file for output type '%c'", t);
     if (cr_interrupt_file_begin(&run->intr, w->slot, name))
         return cr_err_set(err, "interrupted");
-    if (t == 'c')
-        rc = cr_output_color_png(dir, k, px, width, height, err);
-    else if (t == 'r')
-        rc = cr_output_redshift_png(dir, k, px, width, height, run->scene.redshift_sky, err);
-    else if (t == 'b')
-        rc = cr_output_bolometric_png(dir, k, px, width, height, err);
-    else if (t == 'f')
-        rc = cr_output_fits(dir, k, (int)run->cli.frames, &run->scene, &run->ts, px, width,
-                            height, err);
-    else
-        rc = cr_output_csv(dir, k, px, width, height, err);
+    rc = type->write(&o, err);
     cr_interrupt_file_end(&run->intr, w->slot, rc == 0, 0);
     return rc;
 }
@@ -268,26 +259,24 @@ static void cr_worker_idle(cr_worker *w)
     pthread_mutex_unlock(&w->run->lock);
 }
 
-/* Write the files of frame k, traced into px (width x height) in `seconds`,
- * and mark it finished. Returns 0, or -1 with err set (err->msg is
+/* Write the files of frame k, the frame f traced into px in `seconds`, and
+ * mark it finished. Returns 0, or -1 with err set (err->msg is
  * "interrupted" after a second Ctrl-C); a frame that fails leaves none of
  * its files, and info.txt lists only the frames whose files are all
  * written. */
-static int cr_output_frame(cr_worker *w, int k, const cr_pixel *px, int width, int height,
+static int cr_output_frame(cr_worker *w, int k, const cr_frame *f, const cr_pixel *px,
                            double seconds, cr_err *err)
 {
-    static const char types[] = "crdbf";
     cr_run *run = w->run;
     cr_frame_stats st;
-    char written[6] = "", *files = NULL;
+    char types[16], written[16] = "", *files = NULL;
     int n_written = 0, i;
-    cr_frame_stats_compute(px, (long long)width * height, seconds, &st);
+    cr_output_frame_letters(run->cli.output_type, types, sizeof types);
+    cr_frame_stats_compute(px, (long long)f->width * f->height, seconds, &st);
     st.frame = k;
     cr_interrupt_frame_begin(&run->intr, w->slot, k);
     for (i = 0; types[i]; i++) {
-        if (!cr_has_type(run, types[i]))
-            continue;
-        if (cr_write_frame_file(w, types[i], k, px, width, height, err))
+        if (cr_write_frame_file(w, types[i], k, f, px, err))
             goto fail;
         written[n_written++] = types[i];
     }
@@ -323,7 +312,7 @@ static int cr_do_frame(cr_worker *w, int k, cr_pixel *px, cr_sphere *spheres, cr
         cr_worker_idle(w);
         return -1;
     }
-    return cr_output_frame(w, k, px, f.width, f.height, cr_now() - t0, err);
+    return cr_output_frame(w, k, &f, px, cr_now() - t0, err);
 }
 
 /* Is frame k one that --resume keeps from the earlier run? */
@@ -349,15 +338,16 @@ static int cr_next_frame(cr_run *run)
     return k;
 }
 
-/* Prepare frame k and queue it on the GPU session (asynchronous). */
-static int cr_gpu_start(cr_worker *w, cr_gpu_session *gs, int k, cr_sphere *spheres, cr_err *err)
+/* Prepare frame k into *f (its spheres into spheres) and queue it on the GPU
+ * session (asynchronous). */
+static int cr_gpu_start(cr_worker *w, cr_gpu_session *gs, int k, cr_frame *f, cr_sphere *spheres,
+                        cr_err *err)
 {
     cr_run *run = w->run;
-    cr_frame f;
     if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
-                       (int)run->cli.height, &run->ts, &f, spheres, err))
+                       (int)run->cli.height, &run->ts, f, spheres, err))
         return -1;
-    return cr_gpu_session_launch(gs, &f, err);
+    return cr_gpu_session_launch(gs, f, err);
 }
 
 /* Every frame a GPU worker takes, through one session for the whole run
@@ -369,12 +359,19 @@ static int cr_gpu_frames(cr_worker *w, cr_sphere *spheres, cr_err *err)
 {
     cr_run *run = w->run;
     cr_gpu_session *gs;
-    int k, next, rc = -1;
+    /* frame k (being written) and frame k+1 (in flight), each with its spheres */
+    cr_frame frames[2];
+    cr_sphere *sph[2] = {spheres, malloc(sizeof *spheres * (size_t)(run->scene.n_spheres + 1))};
+    int k, next, cur = 0, rc = -1;
+    if (!sph[1])
+        return cr_err_set(err, "out of memory");
     gs = cr_gpu_session_create(w->device, (size_t)run->cli.width * (size_t)run->cli.height, err);
-    if (!gs)
+    if (!gs) {
+        free(sph[1]);
         return -1;
+    }
     k = cr_next_frame(run);
-    if (k >= 0 && cr_gpu_start(w, gs, k, spheres, err))
+    if (k >= 0 && cr_gpu_start(w, gs, k, &frames[cur], sph[cur], err))
         goto done;
     for (; k >= 0; k = next) {
         const cr_pixel *px;
@@ -395,18 +392,20 @@ static int cr_gpu_frames(cr_worker *w, cr_sphere *spheres, cr_err *err)
         }
         next = cr_next_frame(run);
         if (next >= 0)
-            next_rc = cr_gpu_start(w, gs, next, spheres, &next_err);
+            next_rc = cr_gpu_start(w, gs, next, &frames[!cur], sph[!cur], &next_err);
         /* frame k is written even when frame k+1 could not be started */
-        if (cr_output_frame(w, k, px, (int)run->cli.width, (int)run->cli.height, seconds, err))
+        if (cr_output_frame(w, k, &frames[cur], px, seconds, err))
             goto done;
         if (next_rc) {
             *err = next_err;
             goto done;
         }
+        cur = !cur;
     }
     rc = 0;
 done:
     cr_gpu_session_free(gs);
+    free(sph[1]);
     return rc;
 }
 
@@ -687,6 +686,13 @@ static int cr_check_frames(cr_run *run, cr_err *err)
     for (k = 0; k < run->cli.frames && rc == 0; k++) {
         rc = cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
                             (int)run->cli.height, &run->ts, &f, tmp, err);
+        if (rc == 0 && (k == 0 || k == run->cli.frames - 1)) {
+            /* the first and last frame, for info.txt (spheres not kept) */
+            run->ends[k > 0] = f;
+            run->ends[k > 0].spheres = NULL;
+            if (run->cli.frames == 1)
+                run->ends[1] = run->ends[0];
+        }
         if (rc == 0 && f.horizon_epsilon < run->ts.horizon_epsilon &&
             (shrunk < 0 || f.horizon_epsilon < eps_min)) {
             shrunk = k;
@@ -804,10 +810,21 @@ static int cr_mpi_deliver(void *ctx, int rank, int k, int row0, int rows, const 
         atomic_fetch_add(&run->rows_done, rows);
         return 0;
     }
-    if (cr_output_frame(&run->workers[run->n_workers], k, px, (int)run->cli.width,
-                        (int)run->cli.height, seconds, err)) {
-        cr_fail(run, err);
-        return -1;
+    {
+        /* the frame the other rank traced, made here again for its files */
+        cr_frame f;
+        cr_sphere *spheres = malloc(sizeof *spheres * (size_t)(run->scene.n_spheres + 1));
+        int rc = -1;
+        if (!spheres)
+            cr_err_set(err, "out of memory");
+        else if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                                (int)run->cli.height, &run->ts, &f, spheres, err) == 0)
+            rc = cr_output_frame(&run->workers[run->n_workers], k, &f, px, seconds, err);
+        free(spheres);
+        if (rc) {
+            cr_fail(run, err);
+            return -1;
+        }
     }
     return 0;
 }
@@ -920,8 +937,8 @@ static void cr_mpi_frames(cr_run *run)
                   run->mpi_size, run->gather_bytes / (1 << 20), run->gather_s);
     if (one && atomic_load(&run->rows_done) == run->cli.height && !run->failed &&
         !cr_interrupt_requested(&run->intr) &&
-        cr_output_frame(&run->workers[0], 0, run->rows_px, (int)run->cli.width,
-                        (int)run->cli.height, cr_now() - t0, &err))
+        cr_output_frame(&run->workers[0], 0, &run->rows_frame, run->rows_px, cr_now() - t0,
+                        &err))
         cr_fail(run, &err);
     free(run->rows_px);
     free(run->rows_spheres);
@@ -1116,8 +1133,7 @@ static int cr_check_folder(cr_run *run, cr_err *err)
     const char *dir = run->cli.output_dir;
     char video[64] = "";
     int n, k;
-    snprintf(run->frame_types, sizeof run->frame_types, "%s%s", run->cli.output_type,
-             cr_has_type(run, 'v') && !strchr(run->cli.output_type, 'c') ? "c" : "");
+    cr_output_frame_letters(run->cli.output_type, run->frame_types, sizeof run->frame_types);
     if (cr_has_type(run, 'v')) {
         if (!cr_video_available())
             return cr_err_set(err, "-t v: %s", CR_VIDEO_UNAVAILABLE);
@@ -1212,6 +1228,8 @@ static int cr_prepare(cr_run *run, int *rc)
     run->info.frames = (int)run->cli.frames;
     run->info.output_types = run->cli.output_type;
     run->info.version = CURRAY_VERSION;
+    run->info.first = &run->ends[0];
+    run->info.last = &run->ends[1];
     if (cr_check_folder(run, &err)) {
         cr_log_error(&run->log, "curray: %s", err.msg);
         return -1;

@@ -17,24 +17,7 @@
 #include <zlib.h>
 
 #include "../base/fsutil.h"
-
-/* Output types with one file per frame, and their extensions. */
-static const struct {
-    char type;
-    const char *ext;
-} cr_frame_types[] = {{'c', "png"}, {'r', "png"}, {'d', "csv"}, {'b', "png"}, {'f', "fits"}};
-
-#define CR_N_FRAME_TYPES (sizeof cr_frame_types / sizeof cr_frame_types[0])
-
-int cr_frame_file_name(char t, int k, char *out, size_t n)
-{
-    for (size_t i = 0; i < CR_N_FRAME_TYPES; i++)
-        if (cr_frame_types[i].type == t) {
-            int len = snprintf(out, n, "%c_%d.%s", t, k, cr_frame_types[i].ext);
-            return len < 0 || (size_t)len >= n ? -1 : 0;
-        }
-    return -1;
-}
+#include "../output/types.h"
 
 /* If name is a frame file "<t>_<k>.<ext>", its type and frame; else -1. */
 static int cr_parse_frame_name(const char *name, char *t, long *k)
@@ -46,7 +29,7 @@ static int cr_parse_frame_name(const char *name, char *t, long *k)
         v > 0x7fffffffL)
         return -1;
     /* the canonical spelling only: "c_07.png" is not a frame file */
-    if (cr_frame_file_name(*t, (int)v, again, sizeof again) != 0 || strcmp(again, name) != 0)
+    if (cr_output_file_name(*t, (int)v, again, sizeof again) != 0 || strcmp(again, name) != 0)
         return -1;
     *k = v;
     return 0;
@@ -74,17 +57,29 @@ static void cr_put_ranges(FILE *fp, const long *v, size_t n)
 
 int cr_stale_scan(const char *dir, int frames, const char *types, char **text)
 {
-    DIR *d = opendir(dir);
+    DIR *d;
     struct dirent *e;
-    long *ks[CR_N_FRAME_TYPES] = {NULL};
-    size_t nk[CR_N_FRAME_TYPES] = {0}, cap[CR_N_FRAME_TYPES] = {0};
+    int nt = cr_output_type_count(); /* indexed like the table of output types */
+    long **ks;
+    size_t *nk, *cap;
     int total = 0, rc = 0;
     size_t len = 0;
     FILE *fp;
 
     *text = NULL;
+    d = opendir(dir);
     if (!d)
         return 0;
+    ks = calloc((size_t)nt, sizeof *ks);
+    nk = calloc((size_t)nt, sizeof *nk);
+    cap = calloc((size_t)nt, sizeof *cap);
+    if (!ks || !nk || !cap) {
+        closedir(d);
+        free(ks);
+        free(nk);
+        free(cap);
+        return -1;
+    }
     while ((e = readdir(d)) != NULL) {
         char t;
         long k;
@@ -93,7 +88,7 @@ int cr_stale_scan(const char *dir, int frames, const char *types, char **text)
             continue;
         if (strchr(types, t) && k < frames)
             continue; /* this run writes it */
-        for (i = 0; cr_frame_types[i].type != t; i++)
+        for (i = 0; cr_output_type_at((int)i)->letter != t; i++)
             ;
         if (nk[i] == cap[i]) {
             size_t c = cap[i] ? 2 * cap[i] : 16;
@@ -111,12 +106,12 @@ int cr_stale_scan(const char *dir, int frames, const char *types, char **text)
     closedir(d);
     if (rc == 0 && total > 0 && (fp = open_memstream(text, &len)) != NULL) {
         int first = 1;
-        for (size_t i = 0; i < CR_N_FRAME_TYPES; i++) {
+        for (int i = 0; i < nt; i++) {
             if (!nk[i])
                 continue;
             qsort(ks[i], nk[i], sizeof *ks[i], cr_long_cmp);
-            fprintf(fp, "%s%c_<k>.%s for k = ", first ? "" : "; ", cr_frame_types[i].type,
-                    cr_frame_types[i].ext);
+            fprintf(fp, "%s%c_<k>.%s for k = ", first ? "" : "; ", cr_output_type_at(i)->letter,
+                    cr_output_type_at(i)->file);
             cr_put_ranges(fp, ks[i], nk[i]);
             first = 0;
         }
@@ -128,8 +123,11 @@ int cr_stale_scan(const char *dir, int frames, const char *types, char **text)
     } else if (rc == 0 && total > 0) {
         rc = -1;
     }
-    for (size_t i = 0; i < CR_N_FRAME_TYPES; i++)
+    for (int i = 0; i < nt; i++)
         free(ks[i]);
+    free(ks);
+    free(nk);
+    free(cap);
     return rc ? -1 : total;
 }
 
@@ -398,7 +396,7 @@ int cr_frame_files_describe(const char *dir, int k, const char *types, char **te
         long long size;
         unsigned long crc;
         int fd, rc;
-        if (cr_frame_file_name(*t, k, name, sizeof name) != 0 ||
+        if (cr_output_file_name(*t, k, name, sizeof name) != 0 ||
             cr_path_join(path, sizeof path, dir, name) != 0)
             continue;
         fd = open(path, O_RDONLY | O_CLOEXEC);
@@ -447,7 +445,7 @@ static int cr_frame_file_matches(const char *body, const char *dir, char t, int 
     unsigned long crc, rec_crc;
     struct stat st;
     int fd, rc;
-    if (cr_frame_file_name(t, k, name, sizeof name) != 0 ||
+    if (cr_output_file_name(t, k, name, sizeof name) != 0 ||
         cr_path_join(path, sizeof path, dir, name) != 0)
         return 1;
     snprintf(want, sizeof want, "\n" CR_FILE_LABEL "%s ", name);

@@ -1,6 +1,6 @@
 /* curray cli: what an output folder already holds (issue 14).
  *
- * - Frame files: c_<k>.png, r_<k>.png, d_<k>.csv (cr_frame_file_name). The
+ * - Frame files: c_<k>.png, r_<k>.png, d_<k>.csv (cr_output_file_name). The
  *   names keep the paper's unpadded k.
  * - Stale files: frame files that this run will not overwrite (a frame
  *   number >= the run's frame count, or a type the run does not write).
@@ -21,10 +21,6 @@
 #include "../base/error.h"
 #include "../input/scene.h"
 #include "../input/sysconfig.h"
-
-/* The file name of frame k's output of type t ("c_3.png"), or -1 when t
- * has no per-frame file (i, v). */
-int cr_frame_file_name(char t, int k, char *out, size_t n);
 
 /* Scan dir for frame files this run will not overwrite (frames, types: the
  * run's). *text gets a one-line description, malloc'ed ("c_<k>.png for

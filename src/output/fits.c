@@ -20,10 +20,10 @@ int cr_fits_available(void)
     return 0;
 }
 
-int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_trace_settings *ts,
-                   const cr_pixel *px, int w, int h, cr_err *err)
+int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_frame *f,
+                   const cr_pixel *px, cr_err *err)
 {
-    (void)dir, (void)k, (void)n, (void)s, (void)ts, (void)px, (void)w, (void)h;
+    (void)dir, (void)k, (void)n, (void)s, (void)f, (void)px;
     return cr_err_set(err, CR_FITS_MISSING);
 }
 
@@ -71,8 +71,8 @@ static double cr_fits_value(int q, const cr_pixel *p)
 }
 
 /* The frame's keywords on the current (primary) HDU. */
-static void cr_fits_keys(fitsfile *ff, int k, int n, const cr_scene *s, const cr_trace_settings *ts,
-                         const cr_frame *f, int *st)
+static void cr_fits_keys(fitsfile *ff, int k, int n, const cr_scene *s, const cr_frame *f,
+                         int *st)
 {
     const double deg = 180.0 / CR_PI;
     double m = cr_anim_at(s->m, k, n), v;
@@ -102,11 +102,11 @@ static void cr_fits_keys(fitsfile *ff, int k, int n, const cr_scene *s, const cr
     fits_write_key_dbl(ff, "OBS_ROLL", f->observer.roll * deg, 15, "[deg] camera roll", st);
     fits_write_key_dbl(ff, "OBS_PTCH", f->observer.pitch * deg, 15, "[deg] camera pitch", st);
     fits_write_key_dbl(ff, "OBS_YAW", f->observer.yaw * deg, 15, "[deg] camera yaw", st);
-    fits_write_key_str(ff, "INTEGRAT", cr_integrator_name(ts->integrator), "geodesic integrator",
+    fits_write_key_str(ff, "INTEGRAT", cr_integrator_name(f->integrator), "geodesic integrator",
                        st);
-    v = ts->tolerance;
+    v = f->tolerance;
     fits_write_key_dbl(ff, "TOLERANC", v, 15, "mino error tolerance", st);
-    fits_write_key_lng(ff, "SAMPLES", ts->samples > 1 ? ts->samples : 1,
+    fits_write_key_lng(ff, "SAMPLES", f->samples > 1 ? f->samples : 1,
                        "sub-pixel rays per side", st);
     if (s->path)
         fits_write_key_longstr(ff, "SCENE", s->path, "scene file", st);
@@ -143,13 +143,12 @@ static void cr_fits_image(fitsfile *ff, int q, const cr_pixel *px, int w, int h,
     }
 }
 
-int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_trace_settings *ts,
-                   const cr_pixel *px, int w, int h, cr_err *err)
+int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_frame *f,
+                   const cr_pixel *px, cr_err *err)
 {
     char path[4096], name[64], msg[FLEN_ERRMSG];
-    cr_frame f;
-    cr_sphere *spheres = malloc(sizeof *spheres * (size_t)(s->n_spheres + 1));
-    void *row = malloc(sizeof(double) * (size_t)w);
+    int w = f->width, h = f->height;
+    void *row = malloc(sizeof(double) * (size_t)(w > 0 ? w : 1));
     void *mem = NULL;
     size_t memsize = 0;
     fitsfile *ff = NULL;
@@ -162,16 +161,13 @@ int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_tr
         cr_err_set(err, "output folder name too long: '%s'", dir);
         goto done;
     }
-    if (!spheres || !row) {
+    if (!row) {
         cr_err_set(err, "writing %s: out of memory", path);
         goto done;
     }
-    /* the frame's own values (units of M) for the keywords */
-    if (cr_scene_frame(s, k, n, w, h, ts, &f, spheres, err))
-        goto done;
     fits_create_memfile(&ff, &mem, &memsize, 2880 * 64, realloc, &st);
     fits_create_img(ff, BYTE_IMG, 0, NULL, &st);
-    cr_fits_keys(ff, k, n, s, ts, &f, &st);
+    cr_fits_keys(ff, k, n, s, f, &st);
     for (q = 0; q < CR_F_N; q++)
         cr_fits_image(ff, q, px, w, h, row, &st);
     fits_get_hduaddrll(ff, &head0, &data0, &data1, &st);
@@ -195,8 +191,12 @@ int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_tr
 done:
     free(mem);
     free(row);
-    free(spheres);
     return rc;
 }
 
 #endif
+
+int cr_output_write_fits(const cr_frame_output *o, cr_err *err)
+{
+    return cr_output_fits(o->dir, o->k, o->n, o->scene, o->frame, o->px, err);
+}

@@ -28,6 +28,7 @@
 #include "../core/defs.h"
 #include "../base/error.h"
 #include "../input/scene.h"
+#include "types.h"
 
 /* 1 when this build writes FITS (linked with cfitsio). */
 int cr_fits_available(void);
@@ -37,10 +38,15 @@ int cr_fits_available(void);
     "-t f: this curray was built without cfitsio, so it cannot write FITS; install it "         \
     "(Debian: libcfitsio-dev, tools/install-deps.sh) and build again"
 
-/* Write dir/f_<k>.fits for frame k of n of scene s traced with settings ts
- * into px (w x h, row 0 at the top). Returns 0, or -1 with err set (nothing
+/* Write dir/f_<k>.fits for frame k of n, the frame f (made from scene s)
+ * traced into px (f->width x f->height, row 0 at the top): the keywords come
+ * from f (units of M, integrator, tolerance, samples), the scene file's name
+ * and M in the scene's unit from s. Returns 0, or -1 with err set (nothing
  * is left behind). */
-int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_trace_settings *ts,
-                   const cr_pixel *px, int w, int h, cr_err *err);
+int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_frame *f,
+                   const cr_pixel *px, cr_err *err);
+
+/* The output-type writer of f (types.h): cr_output_fits of o. */
+int cr_output_write_fits(const cr_frame_output *o, cr_err *err);
 
 #endif

@@ -80,52 +80,44 @@ static void cr_put_radius_m(FILE *fp, const char *label, const double x[2], cons
     fprintf(fp, " in the scene's units)\n");
 }
 
-/* The Keplerian disc (issue 12): model, orbit sense, the ISCO of that sense
- * and the effective inner edge max(inner radius, r_isco), both at the first
- * and the last frame (as the frame does: a/M, Q/M), what lies inside the
- * ISCO, and the peak temperature: as given, or derived from the mass and
- * accretion rate (with the radiative efficiency) by the frame's own
- * cr_disc_keplerian_prepare. */
-static void cr_info_keplerian(FILE *fp, const cr_scene *s)
+/* The Keplerian disc: model, orbit sense, the ISCO of that sense and the
+ * effective inner edge max(inner radius, r_isco), both at the run's first
+ * and last frame (ends[0], ends[1]: the frames as traced, units of M, with
+ * m[] the scene's M at each), what lies inside the ISCO, and the peak
+ * temperature: as given, or as the frames derived it from the mass and
+ * accretion rate, with the radiative efficiency 1 - E(r_in). Without frames
+ * (ends NULL) the lines derived per frame are left out. */
+static void cr_info_keplerian(FILE *fp, const cr_scene *s, const cr_frame *const *ends,
+                              const double m[2])
 {
-    double m[2] = {s->m.a, s->m.b}, isco[2], rin[2], tpk[2] = {NAN, NAN}, eta[2] = {NAN, NAN};
-    cr_anim rin_s[2] = {{s->disc_r_in.a, s->disc_r_in.a}, {s->disc_r_in.b, s->disc_r_in.b}};
-    int sense = 1;
-    for (int i = 0; i < 2; i++) {
-        cr_metric mt;
-        mt.m = 1.0;
-        mt.a = (i ? s->a.b : s->a.a) / m[i];
-        mt.q = (i ? s->q.b : s->q.a) / m[i];
-        sense = cr_orbit_sense(&mt, !s->disc_retrograde);
-        isco[i] = cr_orbit_r_isco(&mt, sense);
-        rin[i] = isco[i];
-        if (s->disc_has_r_in && rin_s[i].a / m[i] > isco[i])
-            rin[i] = rin_s[i].a / m[i];
-        if (s->disc_mass_msun > 0.0) {
-            cr_disc d;
-            cr_orbit o;
-            memset(&d, 0, sizeof d);
-            d.sense = sense;
-            d.r_in = rin[i];
-            d.r_out = (i ? s->disc_r_out.b : s->disc_r_out.a) / m[i];
-            d.mass_msun = s->disc_mass_msun;
-            d.mdot_edd = s->disc_mdot_edd;
-            if (cr_disc_keplerian_prepare(&d, &mt) == 0 && cr_orbit_eval(&mt, sense, rin[i], &o)) {
-                tpk[i] = d.t_peak;
-                eta[i] = 1.0 - o.E;
-            }
+    double isco[2], rin[2], tpk[2] = {NAN, NAN}, eta[2] = {NAN, NAN};
+    int sense = ends ? ends[1]->disc.sense : 0;
+    for (int i = 0; ends && i < 2; i++) {
+        const cr_disc *d = &ends[i]->disc;
+        cr_orbit o;
+        isco[i] = d->r_isco;
+        rin[i] = d->r_in;
+        if (s->disc_mass_msun > 0.0 && cr_orbit_eval(&ends[i]->metric, d->sense, d->r_in, &o)) {
+            tpk[i] = d->t_peak;
+            eta[i] = 1.0 - o.E;
         }
     }
     fprintf(fp, "  %-22s keplerian\n", "model");
-    fprintf(fp, "  %-22s %s (%s)\n", "orbit sense", s->disc_retrograde ? "retrograde" : "prograde",
-            sense > 0 ? "counter-clockwise about +z" : "clockwise about +z");
+    if (ends)
+        fprintf(fp, "  %-22s %s (%s)\n", "orbit sense",
+                s->disc_retrograde ? "retrograde" : "prograde",
+                sense > 0 ? "counter-clockwise about +z" : "clockwise about +z");
+    else
+        fprintf(fp, "  %-22s %s\n", "orbit sense", s->disc_retrograde ? "retrograde" : "prograde");
     if (s->disc_has_r_in)
         cr_put_anim(fp, "inner radius", s->disc_r_in, "");
     else
         fprintf(fp, "  %-22s the ISCO\n", "inner radius");
     cr_put_anim(fp, "outer radius", s->disc_r_out, "");
-    cr_put_radius_m(fp, "r_isco", isco, m);
-    cr_put_radius_m(fp, "effective inner radius", rin, m);
+    if (ends) {
+        cr_put_radius_m(fp, "r_isco", isco, m);
+        cr_put_radius_m(fp, "effective inner radius", rin, m);
+    }
     fprintf(fp, "  %-22s %s\n", "inside the ISCO",
             s->disc_plunge ? "plunging (falling with the ISCO's E and L; dark)" : "nothing");
     if (!(s->disc_mass_msun > 0.0)) {
@@ -134,6 +126,8 @@ static void cr_info_keplerian(FILE *fp, const cr_scene *s)
     }
     fprintf(fp, "  %-22s %.10g solar masses\n", "mass", s->disc_mass_msun);
     fprintf(fp, "  %-22s %.10g Eddington\n", "accretion rate", s->disc_mdot_edd);
+    if (!ends)
+        return;
     fprintf(fp, "  %-22s %.6g", "efficiency 1 - E(r_in)", eta[0]);
     if (eta[1] != eta[0])
         fprintf(fp, " -> %.6g", eta[1]);
@@ -143,7 +137,7 @@ static void cr_info_keplerian(FILE *fp, const cr_scene *s)
     fprintf(fp, " K (from the mass and accretion rate)\n");
 }
 
-static void cr_info_scene(FILE *fp, const cr_scene *s)
+static void cr_info_scene(FILE *fp, const cr_scene *s, const cr_run_info *run)
 {
     fprintf(fp, "Scene\n");
     fprintf(fp, "  %-22s %s\n", "file", s->path ? s->path : "(from memory)");
@@ -194,7 +188,10 @@ static void cr_info_scene(FILE *fp, const cr_scene *s)
     if (!s->has_disc) {
         fprintf(fp, "  none\n");
     } else if (s->disc_model == CR_DISC_KEPLERIAN) {
-        cr_info_keplerian(fp, s);
+        const cr_frame *ends[2] = {run ? run->first : NULL, run ? run->last : NULL};
+        int n = run && run->frames > 0 ? run->frames : 1;
+        double m[2] = {cr_anim_at(s->m, 0, n), cr_anim_at(s->m, n - 1, n)};
+        cr_info_keplerian(fp, s, ends[0] && ends[1] ? ends : NULL, m);
     } else {
         cr_put_rgb(fp, "colour 1 (top)", s->disc_color1);
         cr_put_rgb(fp, "colour 2 (bottom)", s->disc_color2);
@@ -340,7 +337,7 @@ static void cr_info_header(FILE *fp, const cr_run_info *run, const cr_scene *sce
         fprintf(fp, "\n");
     }
     if (scene) {
-        cr_info_scene(fp, scene);
+        cr_info_scene(fp, scene, run);
         fprintf(fp, "\n");
     }
     if (cfg) {

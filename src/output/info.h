@@ -59,6 +59,10 @@ typedef struct cr_run_info {
     const char *hash;    /* run hash (16 hex digits; --resume checks it), or NULL */
     const char *stale;   /* frame files in the folder this run does not overwrite, or NULL */
     const char *started; /* a resumed run: the earlier run's start time, or NULL */
+    /* the run's first and last frame (0 and frames - 1) as traced, for the
+       values derived per frame (the Keplerian disc's ISCO, inner edge,
+       efficiency and peak temperature); NULL: those lines are left out */
+    const cr_frame *first, *last;
 } cr_run_info;
 
 /* info.txt of one run, open from cr_info_begin to cr_info_end. */

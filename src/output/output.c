@@ -271,3 +271,24 @@ int cr_output_csv(const char *dir, int k, const cr_pixel *px, int w, int h, cr_e
     free(buf);
     return rc;
 }
+
+int cr_output_write_color(const cr_frame_output *o, cr_err *err)
+{
+    return cr_output_color_png(o->dir, o->k, o->px, o->frame->width, o->frame->height, err);
+}
+
+int cr_output_write_redshift(const cr_frame_output *o, cr_err *err)
+{
+    return cr_output_redshift_png(o->dir, o->k, o->px, o->frame->width, o->frame->height,
+                                  o->scene->redshift_sky, err);
+}
+
+int cr_output_write_csv(const cr_frame_output *o, cr_err *err)
+{
+    return cr_output_csv(o->dir, o->k, o->px, o->frame->width, o->frame->height, err);
+}
+
+int cr_output_write_bolometric(const cr_frame_output *o, cr_err *err)
+{
+    return cr_output_bolometric_png(o->dir, o->k, o->px, o->frame->width, o->frame->height, err);
+}

@@ -10,6 +10,7 @@
 #include "../core/defs.h"
 #include "../base/error.h"
 #include "info.h"
+#include "types.h"
 
 /* Redshift colour of one pixel (6.9.1): R = 255 - 255 atan(z) 2/pi, G = 0,
  * B = 255 atan(z) 2/pi for z = omega_r/omega_s >= 0 (horizon z = 0: red);
@@ -60,5 +61,12 @@ int cr_output_csv(const char *dir, int k, const cr_pixel *px, int w, int h, cr_e
  * (cr_stream_check); name is used in the error message. */
 int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, int h,
                          cr_err *err);
+
+/* The output-type writers (types.h) of c, r, d and b: the functions above
+ * for o's frame (r: sky coloured by its shift when o->scene->redshift_sky). */
+int cr_output_write_color(const cr_frame_output *o, cr_err *err);
+int cr_output_write_redshift(const cr_frame_output *o, cr_err *err);
+int cr_output_write_csv(const cr_frame_output *o, cr_err *err);
+int cr_output_write_bolometric(const cr_frame_output *o, cr_err *err);
 
 #endif
