@@ -279,10 +279,12 @@ def read_png(path):
     return w, h, rows
 
 
-def cli_render(curray, yaml_text, work, scenes_dir, w, h, maps=False):
+def cli_render(curray, yaml_text, work, scenes_dir, w, h, maps=False, own=None):
     os.makedirs(work, exist_ok=True)
     for t in ("sky.png", "sky_grid.png"):
         shutil.copyfile(os.path.join(scenes_dir, t), os.path.join(work, t))
+    if own:  # the user's own sky image, next to the scene file
+        shutil.copyfile(own, os.path.join(work, os.path.basename(own)))
     with open(os.path.join(work, "scene.yml"), "w") as f:
         f.write(yaml_text)
     out = os.path.join(work, "out")
@@ -293,12 +295,12 @@ def cli_render(curray, yaml_text, work, scenes_dir, w, h, maps=False):
     return p, os.path.join(out, "d_0.csv")
 
 
-def compare(name, d, curray, scenes_dir, out_dir):
+def compare(name, d, curray, scenes_dir, out_dir, own=None):
     w, h, outcome, rgb, level = page_pixels(d)
     if any(v == 255 for v in level):
         fail("%s: the page's render is not complete (pixels not traced)" % name)
     yaml_text = d.execute_script("return window.crApp.yaml();")
-    p, path = cli_render(curray, yaml_text, os.path.join(out_dir, name), scenes_dir, w, h, True)
+    p, path = cli_render(curray, yaml_text, os.path.join(out_dir, name), scenes_dir, w, h, True, own)
     if p.returncode != 0:
         fail("%s: curray refused the exported YAML: %s\n%s" % (name, p.stderr, yaml_text))
     n_out = n_col = worst = 0
@@ -339,6 +341,68 @@ def compare(name, d, curray, scenes_dir, out_dir):
     if n_out or n_col:
         fail("%s: the page and the command line differ:\n  %s" % (name, "\n  ".join(first)))
     return p
+
+
+def own_sky(d, curray, scenes_dir, out_dir):
+    """The user's own sky image, chosen through the page's file input (a
+    copy of sky_grid.png under another name, a new PNG to the page): the
+    YAML names it, and the render equals the command line's with the image
+    next to the scene file."""
+    own = os.path.join(out_dir, "my_sky.png")
+    shutil.copyfile(os.path.join(scenes_dir, "sky_grid.png"), own)
+    d.execute_script("window.crApp.scene = crDefaultScene(); window.crApp.sky = null;"
+                     "window.crApp.scene.metric.a = 0.8; window.crApp.show(); window.crApp.changed();")
+    wait_done(d, "own sky: before")
+    d.execute_script("window.crApp.renderDone = new Promise((res) => { window.crApp.resolveRender = res; });")
+    d.find_element("id", "sky-file").send_keys(own)
+    t0 = time.time()
+    while "image: my_sky.png" not in d.execute_script("return window.crApp.yaml();"):
+        if time.time() - t0 > 30:
+            fail("own sky: the YAML never named my_sky.png")
+        time.sleep(0.1)
+    if wait_done(d, "own sky"):
+        fail("own sky: the page says %r" % d.execute_script(
+            "return document.getElementById('message').textContent"))
+    compare("own-sky", d, curray, scenes_dir, out_dir, own)
+
+
+def http_load(index_dir):
+    """The page served by python3 -m http.server loads and renders with no
+    console error."""
+    import socket
+    sock = socket.socket()
+    sock.bind(("127.0.0.1", 0))
+    port = sock.getsockname()[1]
+    sock.close()
+    srv = subprocess.Popen([sys.executable, "-m", "http.server", str(port), "--bind", "127.0.0.1"],
+                           cwd=index_dir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    d = browser()
+    try:
+        t0 = time.time()
+        while True:
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                if time.time() - t0 > 20:
+                    fail("http.server did not start")
+                time.sleep(0.2)
+        d.set_script_timeout(120)
+        d.get("http://127.0.0.1:%d/" % port)
+        t0 = time.time()
+        while not d.execute_script("return !!(window.crApp && window.crApp.started)"):
+            if time.time() - t0 > 30:
+                fail("over http: the page did not start: %s" % console_errors(d))
+            time.sleep(0.1)
+        msg = wait_done(d, "over http")
+        errs = console_errors(d)
+        if msg or errs:
+            fail("over http: %r %s" % (msg, errs))
+        print("over http (python3 -m http.server): loaded and rendered, no console error")
+    finally:
+        d.quit()
+        srv.terminate()
+        srv.wait()
 
 
 def look_around(d):
@@ -433,6 +497,7 @@ def main():
                 if msg:
                     fail("%s: the page says %r" % (name, msg))
             compare(name, d, curray, scenes_dir, out_dir)
+        own_sky(d, curray, scenes_dir, out_dir)
         look_around(d)
         # controls, from the demo scene again
         d.execute_script("window.crApp.scene = crDefaultScene(); window.crApp.sky = null;"
@@ -484,6 +549,7 @@ def main():
             fail("console errors: %s" % errs)
     finally:
         d.quit()
+    http_load(web_dir)
     print("PASSED")
     return 0
 
