@@ -17,12 +17,15 @@ cd "$(dirname "$0")/.."
 build=${1:-build} rounds=${2:-3} W=${3:-320} H=${4:-180}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-src="bench/web_bench.c src/wasm/web.c src/input/scene.c src/input/names.c src/base/error.c src/input/sysconfig.c src/output/output.c"
-host="src/input/yamlutil.c src/base/png_io.c src/output/info.c src/base/atomic.c src/base/fsutil.c"
+# the sources the page's core is built from (cmake/wasm.cmake), the same natively
+hostsrc=$(sed -n '/^set(CURRAY_WASM_HOST_SOURCES/,/)/p' cmake/wasm.cmake |
+          sed 's/set(CURRAY_WASM_HOST_SOURCES//; s/)//' | tr '\n' ' ')
+src="bench/web_bench.c src/wasm/web.c $hostsrc"
 flags="-std=c11 -D_POSIX_C_SOURCE=200809L -DCURRAY_VERSION=\"bench\" -Isrc"
-wflags="$flags -ffunction-sections -fdata-sections -Wl,--gc-sections -isystem $build/wasm-include"
+flags="$flags -ffunction-sections -fdata-sections -Wl,--gc-sections"
+wflags="$flags -isystem $build/wasm-include"
 # shellcheck disable=SC2086
-gcc -O3 -DNDEBUG $flags $src $host -lyaml -lpng -lm -o "$out/native"
+gcc -O3 -DNDEBUG $flags -isystem "$build/wasm-include" $src -lm -o "$out/native"
 variants="native"
 for v in "O2:-O2" "O3:-O3" "O3-simd:-O3 -msimd128 -mnontrapping-fptoint"; do
   name=${v%%:*} opt=${v#*:}
