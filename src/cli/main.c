@@ -705,6 +705,12 @@ static int cr_check_frames(cr_run *run, cr_err *err)
                     "raytracer.horizon_epsilon = %g M (frame %d): rays stop halfway between "
                     "it and r+ instead, from %g M above r+",
                     run->ts.horizon_epsilon, shrunk, eps_min);
+    if (rc == 0) {
+        cr_err hints[8];
+        int h, nh = cr_scene_hints(&run->scene, (int)run->cli.frames, hints, 8);
+        for (h = 0; h < nh; h++)
+            cr_log_info(&run->log, "curray: warning: %s", hints[h].msg);
+    }
     free(tmp);
     return rc;
 }

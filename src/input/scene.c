@@ -1224,3 +1224,78 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
                           "the scene's numbers are too large to trace (r_max = %g)", f->r_max);
     return 0;
 }
+
+/* Is any number of the scene animated ([linear, a, b] with a != b)? Every
+ * cr_anim of cr_scene is listed here; a new animatable key belongs here too. */
+static int scene_animated(const cr_scene *s)
+{
+    const cr_anim *v[] = {&s->m,         &s->a,        &s->q,          &s->obs_r,
+                          &s->obs_theta, &s->obs_phi,  &s->roll,       &s->pitch,
+                          &s->yaw,       &s->hfov,     &s->vfov,       &s->hextent,
+                          &s->vextent,   &s->obs_v[0], &s->obs_v[1],   &s->obs_v[2],
+                          &s->disc_yaw,  &s->disc_r_in, &s->disc_r_out, &s->sky_boundary};
+    size_t i;
+    int j;
+    for (i = 0; i < sizeof v / sizeof v[0]; i++)
+        if (v[i]->a != v[i]->b)
+            return 1;
+    for (j = 0; j < s->n_spheres; j++) {
+        const cr_scene_sphere *p = &s->spheres[j];
+        const cr_anim *w[] = {&p->r, &p->theta, &p->phi, &p->roll, &p->pitch, &p->yaw,
+                              &p->radius};
+        for (i = 0; i < sizeof w / sizeof w[0]; i++)
+            if (w[i]->a != w[i]->b)
+                return 1;
+    }
+    return 0;
+}
+
+int cr_scene_hints(const cr_scene *s, int n, cr_err *hints, int max_hints)
+{
+    int count = 0, j, k;
+    if (s->has_sky && s->sky_rgb && s->sky_width != 2 * s->sky_height && count < max_hints)
+        cr_err_set(&hints[count++],
+                   "skymap.image %s is %dx%d pixels, %.3g times as wide as high: the sky map "
+                   "covers 360 x 180 deg, so it is stretched %s (an equirectangular image is "
+                   "twice as wide as high)",
+                   s->sky_image, s->sky_width, s->sky_height,
+                   (double)s->sky_width / (double)s->sky_height,
+                   s->sky_width > 2 * s->sky_height ? "vertically" : "horizontally");
+    /* A sphere is tested in the Cartesian coordinates (2.2.8), where its
+     * centre lies sqrt(r^2 + a^2 sin^2 theta) from the origin; the region
+     * r <= r+ contains the ball of radius r+ there, so a sphere with
+     * |centre| + radius <= r+ lies wholly inside the horizon: no ray reaches
+     * it (they stop at r+ + horizon_epsilon). */
+    for (j = 0; j < s->n_spheres && count < max_hints; j++) {
+        const cr_scene_sphere *p = &s->spheres[j];
+        int first = -1, inside = 0;
+        for (k = 0; k < n; k++) {
+            double m = cr_anim_at(s->m, k, n), a = cr_anim_at(s->a, k, n);
+            double q = cr_anim_at(s->q, k, n), r = cr_anim_at(p->r, k, n);
+            double st = sin(cr_anim_at(p->theta, k, n));
+            double disc = m * m - a * a - q * q;
+            double rp = m + sqrt(disc > 0.0 ? disc : 0.0);
+            if (sqrt(r * r + a * a * st * st) + cr_anim_at(p->radius, k, n) <= rp) {
+                inside++;
+                if (first < 0)
+                    first = k;
+            }
+        }
+        if (inside == n)
+            cr_err_set(&hints[count++],
+                       "sphere %d (line %d) lies wholly inside the event horizon%s: no ray "
+                       "reaches it, so it cannot be seen",
+                       j, p->line, n > 1 ? " in every frame" : "");
+        else if (inside > 0)
+            cr_err_set(&hints[count++],
+                       "sphere %d (line %d) lies wholly inside the event horizon in %d of %d "
+                       "frames (first in frame %d): it cannot be seen there",
+                       j, p->line, inside, n, first);
+    }
+    if (n > 1 && !scene_animated(s) && count < max_hints)
+        cr_err_set(&hints[count++],
+                   "-f %d: nothing in the scene is animated (no [linear, start, end] value), so "
+                   "all %d frames are the same image",
+                   n, n);
+    return count;
+}

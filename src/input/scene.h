@@ -122,4 +122,12 @@ void cr_scene_free(cr_scene *s);
 int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
                    const cr_trace_settings *ts, cr_frame *f, cr_sphere *sphere_buf, cr_err *err);
 
+/* Hints about a valid scene that is likely not what was meant, for the
+ * caller to show as warnings: a sky image that is not twice as wide as high
+ * (stretched onto the 360 x 180 deg sky), a sphere wholly inside the event
+ * horizon in some or all of the n frames (never seen), n > 1 frames with
+ * nothing animated (n equal images). Writes up to max_hints messages, in that
+ * order, and returns their number (0: nothing to say). */
+int cr_scene_hints(const cr_scene *s, int n, cr_err *hints, int max_hints);
+
 #endif
