@@ -14,8 +14,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "atomic.h"
+#include "memcheck.h"
 
 /* What the callbacks of one read or write leave behind. */
 typedef struct cr_png_ctx {
@@ -223,6 +225,32 @@ static int cr_png_read_body(cr_png_ctx *ctx, const char *path, long long max_pix
     if (need / rowbytes != (size_t)h) {
         cr_err_set(err, "cannot read PNG '%s': the image is too large", path);
         goto fail;
+    }
+    {
+        cr_err mem;
+        struct stat fst;
+        double bytes = (double)need + (double)h * sizeof(png_bytep);
+        if (cr_mem_check(bytes, &mem)) {
+            cr_err_set(err, "cannot read PNG '%s': its %lu x %lu pixels (%zu bytes decoded) %s",
+                       path, (unsigned long)w, (unsigned long)h, need, mem.msg);
+            goto fail;
+        }
+        /* a limited read (a sky image) refuses a decompression bomb: more
+         * than CR_PNG_MAX_RATIO times its file's size and above
+         * CR_PNG_BOMB_BYTES decoded, an image carries next to no detail */
+        if (max_pixels > 0 && fstat(fileno(ctx->fp), &fst) == 0 && fst.st_size > 0 &&
+            (double)need > CR_PNG_BOMB_BYTES &&
+            (double)need > CR_PNG_MAX_RATIO * (double)fst.st_size) {
+            cr_err_set(err,
+                       "cannot read PNG '%s': its %lld bytes decode to %lu x %lu pixels, %zu "
+                       "bytes, %.0f times as many (a decompression bomb, or an image scaled "
+                       "up with no detail); use an image of at most %.0f times its file's size "
+                       "or %.0f MiB decoded",
+                       path, (long long)fst.st_size, (unsigned long)w, (unsigned long)h, need,
+                       (double)need / (double)fst.st_size, CR_PNG_MAX_RATIO,
+                       CR_PNG_BOMB_BYTES / 1048576.0);
+            goto fail;
+        }
     }
     buf = malloc(need);
     rows = malloc((size_t)h * sizeof(png_bytep));

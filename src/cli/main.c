@@ -25,6 +25,7 @@
 
 #include "../render/cpu.h"
 #include "../render/gpu.h"
+#include "../base/memcheck.h"
 #include "../output/fits.h"
 #include "../base/fsutil.h"
 #include "../base/log.h"
@@ -518,6 +519,16 @@ static int cr_check_memory(const cr_run *run, int n_workers, cr_err *err)
     double need = px * ((double)sizeof(cr_pixel) * n_workers * (run->use_cuda ? 2 : 1) + 3.0) +
                   (double)run->cli.frames * (double)(sizeof(cr_frame_stats) + 1);
     cr_err mem;
+    /* and what else the run holds: each worker's FITS file while it is
+     * written, the sky image once the scene is loaded, and the stacks of
+     * the threads (the render threads of each worker, the workers, the
+     * Ctrl-C stopper) */
+    if (cr_has_type(run, 'f'))
+        need += n_workers * cr_fits_memory((int)run->cli.width, (int)run->cli.height);
+    if (run->scene.sky_rgb)
+        need += 3.0 * (double)run->scene.sky_width * (double)run->scene.sky_height;
+    need += (double)(n_workers * (run->use_cuda ? 1 : run->threads) + n_workers + 1) *
+            cr_mem_thread_stack();
     if (cr_cpu_memory_check(need, &mem))
         return cr_err_set(err, "a %ldx%ld frame (%ld frame%s) %s; choose a smaller -x/-y",
                           run->cli.width, run->cli.height, run->cli.frames,
@@ -1217,6 +1228,10 @@ static int cr_prepare(cr_run *run, int *rc)
     }
     if (cr_scene_load(run->cli.scene_path, &run->scene, &err) || cr_check_frames(run, &err)) {
         cr_log_error(&run->log, "curray: scene file %s", err.msg);
+        return -1;
+    }
+    if (run->scene.sky_rgb && cr_check_memory(run, run->n_workers, &err)) { /* with the sky */
+        cr_log_error(&run->log, "curray: %s", err.msg);
         return -1;
     }
     if (run->mpi_rank > 0)

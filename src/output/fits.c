@@ -13,6 +13,13 @@
 #include "output.h"
 #include "../input/sysconfig.h"
 
+double cr_fits_memory(int w, int h)
+{
+    /* 6 x 8 + 4 + 1 bytes a pixel; 9 HDUs of keywords, a few 2880-byte
+     * blocks each; one row of doubles */
+    return 53.0 * (double)w * (double)h + 9.0 * 4.0 * 2880.0 + 8.0 * (double)w;
+}
+
 #ifndef CURRAY_HAVE_FITS
 
 int cr_fits_available(void)

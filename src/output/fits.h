@@ -38,6 +38,11 @@ int cr_fits_available(void);
     "-t f: this curray was built without cfitsio, so it cannot write FITS; install it "         \
     "(Debian: libcfitsio-dev, tools/install-deps.sh) and build again"
 
+/* The memory cr_output_fits holds while it writes a w x h frame, bytes: the
+ * whole file, built in memory before it is written out (6 float64, 1 uint32
+ * and 1 uint8 image, 53 bytes a pixel, plus the headers), and a row. */
+double cr_fits_memory(int w, int h);
+
 /* Write dir/f_<k>.fits for frame k of n, the frame f (made from scene s)
  * traced into px (f->width x f->height, row 0 at the top): the keywords come
  * from f (units of M, integrator, tolerance, samples), the scene file's name

@@ -7,6 +7,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "../base/memcheck.h"
 #include "../core/trace.h"
 
 typedef struct cr_cpu_job {
@@ -58,25 +59,7 @@ int cr_cpu_cores(void)
 
 int cr_cpu_memory_check(double bytes, cr_err *err)
 {
-    const double gib = 1024.0 * 1024.0 * 1024.0;
-    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    double have = pages > 0 && page > 0 ? (double)pages * (double)page : 0.0;
-    const char *what = "the machine's memory";
-    struct rlimit rl;
-    if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
-        (have <= 0.0 || (double)rl.rlim_cur < have)) {
-        have = (double)rl.rlim_cur;
-        what = "the address-space limit (ulimit -v)";
-    }
-    if (getrlimit(RLIMIT_DATA, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
-        (have <= 0.0 || (double)rl.rlim_cur < have)) {
-        have = (double)rl.rlim_cur;
-        what = "the data-size limit (ulimit -d)";
-    }
-    if (have > 0.0 && bytes > have)
-        return cr_err_set(err, "needs about %.2f GiB of memory, more than the %.2f GiB of %s",
-                          bytes / gib, have / gib, what);
-    return 0;
+    return cr_mem_check(bytes, err);
 }
 
 int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn progress,

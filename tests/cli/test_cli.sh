@@ -502,6 +502,59 @@ if (ulimit -v 3000000 && "$CURRAY" --version) >/dev/null 2>&1; then
 else
     skip "frame larger than the memory limit" "curray cannot start under ulimit -v (a sanitizer build)"
 fi
+# The memory check counts what else a run holds: each worker's FITS file
+# (built in memory, 53 bytes a pixel) and the thread stacks. Under
+# ulimit -v 600000 a 2300x2300 -t icf run fits without its FITS file
+# (0.33 GiB) but not with it (0.62 GiB): it used to render and then fail in
+# cfitsio. 64 threads of 8 MiB stacks (0.52 GiB) do not fit 300000 KiB.
+if (ulimit -v 3000000 && "$CURRAY" --version) >/dev/null 2>&1; then
+    rm -rf o
+    OUT=$( (ulimit -v 600000 && exec timeout 120 "$CURRAY" -s good.yml -o o -x 2300 -y 2300 -t icf -a true) 2>&1)
+    RC=$?
+    if [[ "$OUT" == *"built without cfitsio"* ]]; then
+        skip "FITS counted by the memory check" "this build has no cfitsio"
+    elif [ "$RC" = 1 ] && [[ "$OUT" == *"a 2300x2300 frame (1 frame) needs about 0.6"*" GiB of memory, more than the 0.57 GiB of the address-space limit"* ]] &&
+        [ ! -e o ]; then
+        ok "FITS counted by the memory check: refused before rendering"
+    else
+        bad "FITS counted by the memory check" "exit status $RC"
+    fi
+    OUT=$( (ulimit -v 300000 && ulimit -s 8192 && exec timeout 60 "$CURRAY" -s good.yml -o o -x 8 -y 8 --threads 64 -a true) 2>&1)
+    RC=$?
+    if [ "$RC" = 1 ] && [[ "$OUT" == *"a 8x8 frame (1 frame) needs about 0.5"*" GiB of memory, more than the 0.29 GiB of the address-space limit"* ]] &&
+        [ ! -e o ]; then
+        ok "thread stacks counted by the memory check (64 threads)"
+    else
+        bad "thread stacks counted by the memory check" "exit status $RC"
+    fi
+else
+    skip "FITS and thread stacks counted by the memory check" "curray cannot start under ulimit -v (a sanitizer build)"
+fi
+# A sky image that decodes to far more than its file (a decompression bomb:
+# 16384 x 16384 black pixels, 805 MB, from a file of about 800 KB) is refused
+# before it is decoded, naming it (it was accepted without a word).
+if command -v python3 >/dev/null; then
+    python3 - bomb.png <<'PY'
+import struct, sys, zlib
+w = h = 16384
+def chunk(t, d):
+    return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+z = zlib.compressobj(9)
+row = bytes(1 + 3 * w)
+data = b"".join(z.compress(row) for _ in range(h)) + z.flush()
+with open(sys.argv[1], "wb") as f:
+    f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", data) + chunk(b"IEND", b""))
+PY
+    scene "sky image: a decompression bomb" 1 \
+        "skymap.image: cannot read PNG 'bomb.png': its " \
+        "$GOOD"$'skymap: {image: bomb.png, boundary: 50}\n'
+    [[ "$OUT" == *"bytes decode to 16384 x 16384 pixels, 805306368 bytes, "*" times as many (a decompression bomb"* ]] ||
+        bad "decompression bomb message" "$OUT"
+    rm -f bomb.png
+else
+    bad "sky image: a decompression bomb" "no python3 to write the PNG"
+fi
 
 # --- output folder ----------------------------------------------------------
 expect "output folder under a regular file" 1 "cannot create folder 'afile/out': 'afile' exists and is not a folder" \
