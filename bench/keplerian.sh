@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # bench/keplerian.sh: what a Keplerian disc costs against the chessboard
-# (issue 12: at most 1.2x). The same scene twice: scenes/keplerian-
+# (the target: at most 1.2x). The same scene twice: scenes/keplerian-
 # interstellar.yml (a = 0.6, 85 deg, starry sky, disc from the ISCO to 20 M)
 # as shipped, and with its accretion section replaced by a chessboard of the
 # same radii [r_isco, 20]. Runs alternate (keplerian, chessboard, chessboard,

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench/kerrz.sh: curray side by side with the peer kerrz (issue 10).
+# bench/kerrz.sh: curray side by side with the peer kerrz.
 #
 # Renders the same image with both programs: a = 0.9, inclination 85 deg,
 # thin disc from r = 6 to 15 M, image plane +-20 M, 640 x 640, 2 threads;

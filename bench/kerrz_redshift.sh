@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # bench/kerrz_redshift.sh: curray's Keplerian-disc shift g against kerrz's
-# redshift map, pixel by pixel (issue 12).
+# redshift map, pixel by pixel.
 #
 # Scene (bench/scenes/kerrz-keplerian.yml): a = 0.9, inclination 85 deg,
 # thin disc of prograde circular orbits from r = 6 to 15 M, image plane

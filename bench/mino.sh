@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# bench/mino.sh: the Mino-time integrator against the paper's RK4 (issue 10),
+# bench/mino.sh: the Mino-time integrator against the paper's RK4,
 # every comparison measured side by side (cases alternate run by run, the
 # order reversed every other run) in one run of this script.
 #
 #   (a) `make demo`'s scene (scenes/demo.yml) at 640x480 on 2 threads,
 #       integrator mino vs rk4: wall time (and CPU time) medians and the
-#       speed-up rk4 / mino (issue 10's target: >= 50); pixels classed
+#       speed-up rk4 / mino (the target: >= 50); pixels classed
 #       differently.
 #   (b) a = 0.9, inclination 85 deg, static observer at r = 100, disc 6-15,
 #       120x120, hfov = 2 atan(20/100) (bench/scenes/mino-r100.yml), one thread:

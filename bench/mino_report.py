@@ -90,7 +90,7 @@ def main():
                 s["steps"] / s["rays"], 1e9 * s["cpu"] / s["steps"], s["load"]))
         print()
         print("Speed-up rk4 / mino: **%.1fx** in wall time (process), %.1fx in frame time, %.1fx in CPU time "
-              "(issue 10's target: >= 50x in wall time). Pixels classed differently, mino vs rk4: %s." % (
+              "(the target: >= 50x in wall time). Pixels classed differently, mino vs rk4: %s." % (
                   k["wall"] / m["wall"], k["frame"] / m["frame"], k["cpu"] / m["cpu"], cmp_cell("a-mino", "a-rk4")))
         print()
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench/mpi.sh: how a run scales with MPI ranks (issue 14), side by side.
+# bench/mpi.sh: how a run scales with MPI ranks, side by side.
 # Cases, interleaved run by run so that load changes hit all alike:
 #   P1   curray, one process, --threads 1            (the reference)
 #   M1   mpirun -np 1 curray_mpi --threads 1         (MPI's own cost)

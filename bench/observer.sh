@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench/observer.sh: the cost of a frame for every observer motion (issue 13),
+# bench/observer.sh: the cost of a frame for every observer motion,
 # side by side in one run: static, zamo, orbit, infall and an explicit
 # velocity, on one scene (a = 0.9 M, observer at r = 30 M on the equator
 # looking at the hole, the chessboard disc and the sky_grid.png sky at

@@ -1,4 +1,4 @@
-/* Antialiasing (issue 12, raytracer.samples): cr_trace_pixel with
+/* Antialiasing (raytracer.samples): cr_trace_pixel with
  * f->samples = n traces n x n stratified sub-rays (sub-pixel centres at
  * ((a + 0.5) / n, (b + 0.5) / n) of the pixel) and averages their colours in
  * linear light; everything else comes from the sub-ray of

@@ -6,12 +6,12 @@
  * Schwarzschild disc of listing 7.1.1 seen from theta = 85 deg, a Kerr
  * a = 0.998 disc, a Kerr-Newman scene with spheres and a sky texture, an
  * observer on the polar axis, and two observers at infinity: the a = 0.9
- * disc of issue 10's kerrz comparison on a +-20 M image plane, and a
+ * disc of the kerrz comparison (bench/kerrz.sh) on a +-20 M image plane, and a
  * Kerr-Newman scene with spheres and a sky texture at infinity) and frame 0
  * of every scene file in scenes/. The observer at infinity exists under mino
  * only (cr_trace_pixel traces it with mino whatever the frame's integrator
  * says, and the scene loader refuses rk4 there), so those cases run once.
- * Antialiasing (raytracer.samples, issue 12) must do the same on both
+ * Antialiasing (raytracer.samples) must do the same on both
  * backends: the moving-observer fisheye case again with 3 x 3 samples (the
  * image circle's edge is antialiased), and the scene files in bk_aa_scenes
  * (a Keplerian disc with plunging matter and physical inputs, mass in solar
@@ -209,7 +209,7 @@ static int bk_builtin(int k, bk_case *c)
         bk_base(c, "kerr a=0.9 disc, observer on the axis", 1.0, 0.9, 0.0, 20.0, 0.0);
         bk_disc(&c->f, bk_rgb(255, 255, 0), 3, 16, 3.0, 12.0);
         break;
-    case 4: /* issue 10's kerrz scene: a = 0.9, 85 deg, disc 6-15 M, +-20 M */
+    case 4: /* bench/kerrz.sh's scene: a = 0.9, 85 deg, disc 6-15 M, +-20 M */
         bk_base(c, "kerr a=0.9 disc, observer at infinity, 85 deg", 1.0, 0.9, 0.0, 0.0, 0.0);
         bk_at_infinity(c, 85.0 * BK_DEG, 40.0);
         bk_disc(&c->f, bk_rgb(0, 255, 0), 3, 24, 6.0, 15.0);
@@ -222,7 +222,7 @@ static int bk_builtin(int k, bk_case *c)
         bk_three_spheres(c);
         bk_sky(c, 0.0);
         break;
-    case 6: /* issue 13: an observer moving inside the ergosphere (0.5 c radially
+    case 6: /* an observer moving inside the ergosphere (0.5 c radially
              * in, 0.3 c along -phi, as the ZAMO measures) with a 270 deg
              * fisheye (its corners outside the image circle), a disc and a sky
              * at infinity; case 7: the same with 3 x 3 samples */

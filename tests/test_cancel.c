@@ -1,5 +1,5 @@
-/* The CPU backend's cancel flag and thread limit (issue 11, item 6 and the
- * thread-limit trap):
+/* The CPU backend's cancel flag (Ctrl-C stops a render within a pixel) and
+ * thread limit:
  * - a C11 atomic_int checked per pixel: cancelling a render of one
  *   65,536-pixel row near the hole returns within 0.2 s (a check between rows
  *   only would finish the whole row, many seconds);

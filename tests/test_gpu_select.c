@@ -1,6 +1,6 @@
 /* GPU selection (cr_gpu_select, src/render/gpu_select.c) with made-up device
  * tables: device numbers are the runtime's, so the number of usable devices
- * is no bound on them (issue 11, item 5). Runs in every build, with or
+ * is no bound on them (a gpus: entry names any device). Runs in every build, with or
  * without CUDA, and needs no GPU. */
 #include <setjmp.h>
 #include <stdarg.h>

@@ -1,5 +1,5 @@
 /* Every scene in scenes/ renders with both integrators, and both agree with
- * a converged image (issue 10).
+ * a converged image (rk4 at step_multiplier 1/128).
  *
  * Reference: integrator rk4 with step_multiplier 1/128 (a quarter of the
  * default step of (6.6.1)), taken as the converged image. Compared with it:

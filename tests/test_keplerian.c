@@ -1,4 +1,4 @@
-/* Keplerian disc (issue 12): the shift g of circular-orbit emitters seen by
+/* Keplerian disc (accretion.model: keplerian): the shift g of circular-orbit emitters seen by
  * the frame's observer, through the whole pipeline (scene -> frame ->
  * cr_trace_loop). Known answers:
  *  - face-on Schwarzschild ring seen from infinity: the photons have L = 0,

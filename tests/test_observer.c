@@ -1,4 +1,4 @@
-/* Observers that move and the camera's projections (issue 13; observer.h).
+/* Observers that move and the camera's projections (observer.h).
  *
  * Checked against formulas written out here, independently of observer.h:
  * - the boosted tetrad is orthonormal, g(e_a, e_b) = eta_ab within 1e-9, at

@@ -1,5 +1,5 @@
 /* Circular equatorial orbits, the general frequency ratio and the
- * Novikov-Thorne flux (src/core/orbit.h, src/core/shift.h; issue 12).
+ * Novikov-Thorne flux (src/core/orbit.h, src/core/shift.h).
  *
  * Known answers and tolerances (each test prints what it measured):
  * - Gauss-Legendre 8: exact for x^k, k <= 15, to 1e-15; the flux quadrature

@@ -1388,7 +1388,7 @@ static void test_info_appends(void **state)
 
 /* A record that does not fit (here: the file size limit, as on a full disk)
  * leaves info.txt exactly as it was, and the next record goes on from there. */
-/* issue 14: the run hash, stale files and a resumed run's Started/Resumed
+/* --resume's part of info.txt: the run hash, stale files and a resumed run's Started/Resumed
  * lines in the header; cr_info_resume writes the kept records in their
  * order with "Finished" counted again, and the next record continues the
  * count. */

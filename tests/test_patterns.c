@@ -1,5 +1,5 @@
 /* Patterns, orientations and per-ray statistics against expectations
- * computed independently here (issue 11, "Tests that let bugs through").
+ * computed independently here, so that a wrong sign, axis or count fails.
  * Every traced check runs under both integrators (mino and rk4).
  *
  * 1. Disc chessboard (parity, yaw, colour at the hit point): Schwarzschild,

@@ -211,7 +211,7 @@ static void test_sphere_inside_one_mino_step(void **state)
     free(ref);
 }
 
-/* Issue 11 item 1: the image does not depend on the choice of M. A Kerr
+/* The image does not depend on the choice of M. A Kerr
  * scene with a disc and a sphere (listing 7.1.1 and 7.1.6 combined) is
  * scaled by M = 7, 1000 and 0.001 (every length times M; angles,
  * horizon_epsilon and the settings are in units of M). The scaled inputs

@@ -467,7 +467,7 @@ static void check_shot(const shot *s, const char *name)
     const double err_std_max = mino ? 4.0 * f->tolerance : 4e-6;
     double worst_mean = 0.0, worst_std = 0.0;
 
-    /* a moving observer (issue 13) sees Doppler shifts: the sky's g is 1/E of
+    /* a moving observer sees Doppler shifts: the sky's g is 1/E of
      * each ray (p.u_obs = 1 for the camera's rays, u_em static at infinity),
      * and sources are not bounded by the static range */
     const int moving = f->observer.motion != CR_MOTION_STATIC;

@@ -22,7 +22,7 @@
  * image) of Bardeen's curve of the spherical photon orbits (see "The
  * Bardeen curve" below).
  *
- * A ZAMO at r_o = 8 M (observer.motion: zamo, issue 13): the same critical
+ * A ZAMO at r_o = 8 M (observer.motion: zamo): the same critical
  * photons projected onto its screen (Grenzebach, Perlick & Lammerzahl 2014)
  * match the traced edge within 0.5 px (test_shadow_zamo_finite). */
 #include <setjmp.h>
@@ -450,7 +450,7 @@ static void test_shadow_bardeen_curve(void **state)
     assert_true(fabs(worst) < 0.5);
 }
 
-/* The shadow seen by a ZAMO at r_o = 8 M (issue 13): the critical photons'
+/* The shadow seen by a ZAMO at r_o = 8 M: the critical photons'
  * (lambda, eta) from R = R' = 0 projected onto the ZAMO's screen
  * (bardeen_point with ro > 0) against the traced edge of the boosted-ZAMO
  * camera, within 0.5 px of a 512 px image 2 atan(1) wide. The projection is

@@ -70,7 +70,7 @@ pick listing-7.1.6-sphere-orbit c_18.png listing-7.1.6-sphere-orbit-phi180.png
 render scenes/listing-7.3.1-reissner-nordstrom-sphere.yml 36 c
 pick listing-7.3.1-reissner-nordstrom-sphere c_18.png listing-7.3.1-reissner-nordstrom-sphere.png
 
-# Moving observers and projections (issue 13), each at its own size, into
+# Moving observers and projections, each at its own size, into
 # docs/gallery/ (shown in docs/gallery.md).
 observer() { # scene frames types width height, then pairs "source-file target-name"
     name=$(basename "$1" .yml)
@@ -93,7 +93,7 @@ W=320
 H=240
 echo "gallery: $(du -ch "$dst"/*.png | tail -1)"
 
-# The Keplerian discs (issue 12) at 640x360 into docs/gallery/ (shown in
+# The Keplerian discs at 640x360 into docs/gallery/ (shown in
 # docs/gallery.md): the colour image and the bolometric map b_0.png of each.
 W=640
 H=360

@@ -1,4 +1,4 @@
-/* curray cli: what an output folder already holds (issue 14).
+/* curray cli: what an output folder already holds (--resume, stale files).
  *
  * - Frame files: c_<k>.png, r_<k>.png, d_<k>.csv (cr_output_file_name). The
  *   names keep the paper's unpadded k.

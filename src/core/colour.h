@@ -1,4 +1,4 @@
-/* curray core: colour of thermal emission (issue 12, "Brightness").
+/* curray core: colour of thermal emission (a blackbody's colour and brightness).
  *
  * From a blackbody emitter seen with frequency ratio g = nu_obs / nu_em to an
  * 8-bit sRGB pixel:

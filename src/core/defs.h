@@ -101,7 +101,7 @@ typedef struct cr_flux_table {
 typedef enum cr_disc_model {
     CR_DISC_CHESSBOARD = 0, /* the paper's static chessboard (default) */
     CR_DISC_KEPLERIAN = 1,  /* circular equatorial geodesic orbits, blackbody
-                               colour T(r) seen with the shift g (issue 12) */
+                               colour T(r) seen with the shift g */
     CR_DISC_MODEL_COUNT_ = 2
 } cr_disc_model;
 

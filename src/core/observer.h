@@ -1,5 +1,5 @@
 /* curray core: observers that move, and the projections of their camera
- * (issue 13; DESIGN "One observer construction").
+ * (observer.motion, observer.projection; DESIGN "One observer construction").
  *
  * Tetrad. Every finite observer's orthonormal frame is the ZAMO tetrad
  * boosted by the observer's 3-velocity v measured by the ZAMO:

@@ -1,5 +1,5 @@
 /* curray core: circular equatorial orbits of Kerr-Newman and the
- * Novikov-Thorne / Page-Thorne disc flux (issue 12, physics groundwork).
+ * Novikov-Thorne / Page-Thorne disc flux (the Keplerian disc's physics).
  *
  * Units and signs: G = c = 1, signature (-+++), BL coordinates, lengths in the
  * unit of the metric (M = mt->m; the renderer uses M = 1). Test particles are

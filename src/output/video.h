@@ -1,4 +1,4 @@
-/* curray io: a video of a run's frames (output type v, issue 14).
+/* curray io: a video of a run's frames (output type v).
  *
  * An MP4 file (H.264, yuv420p, the constant frame rate fps) is made from the
  * PNG frames dir/<prefix>_0.png ... dir/<prefix>_<n-1>.png after they are

@@ -108,7 +108,7 @@ int cr_gpu_render_ex(int device, const cr_frame *f, cr_pixel *out, cr_gpu_progre
 
 /* ---- a session: one device for a whole run ------------------------------ */
 
-/* A device set up once for many frames (issue 11 item 8): its stream, launch
+/* A device set up once for many frames, not once per frame: its stream, launch
  * configuration, pixel buffer, spheres and sky texture stay for the session,
  * and a frame is traced asynchronously while the host writes the previous
  * one. Two frames may be in flight; their results land in two pinned host

@@ -1,4 +1,4 @@
-/* curray cli: spreading a run over MPI ranks (issue 14; curray_mpi only).
+/* curray cli: spreading a run over MPI ranks (curray_mpi only).
  *
  * The work is a list of items, each a block of rows of one frame: a whole
  * frame per item when the run has several frames, a block of rows of frame

@@ -402,10 +402,10 @@ scene "sky boundary animated to inf" 1 "skymap.boundary[2]: inf (the sky at infi
     "$GOOD"$'skymap: {image: '"$ROOT"$'/scenes/sky_grid.png, boundary: [linear, 50, inf]}\n'
 
 # --- the flat screen's field of view; rays on the limits; an observer just
-# outside the horizon (issue 11 items 2 and 3) --------------------------------
+# outside the horizon --------------------------------
 scene "hfov 179: the flat screen cannot show it" 1 "observer.hfov = 179 deg: the flat screen cannot show more than 170 deg" \
     "$MET"$'observer: {r: 20, theta: 90, phi: 0, hfov: 179}\n'
-# --- moving observers and projections (issue 13) ----------------------------
+# --- moving observers and projections ----------------------------
 KERR=$'metric: {m: 1, a: 0.9, q: 0}\n'
 scene "motion: speed of light" 1 "observer.motion = [0.6, 0, 0.8]: the speed |v| = 1 must be below 1" \
     "$KERR"$'observer: {r: 20, theta: 90, phi: 0, hfov: 60, motion: [0.6, 0, 0.8]}\n'

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# MPI (issue 14): mpirun -np 2 curray_mpi gives the files of a one-process
+# MPI: mpirun -np 2 curray_mpi gives the files of a one-process
 # run, byte for byte, for a 3-frame run (frames spread over the ranks) and a
 # 1-frame run (rows spread over the ranks); more ranks than rows is refused;
 # a rank killed with SIGKILL ends the run, the finished frames are kept and

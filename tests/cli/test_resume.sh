@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Output folders that already hold frames (issue 14): stale frame files are
+# Output folders that already hold frames: stale frame files are
 # reported and kept; --resume after kill -9 in the middle of frame 2 of 4
 # gives the files of an uninterrupted run; a changed scene or size is refused.
 #

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Videos, -t v (issue 14).
+# Videos, -t v.
 #
 #   bash tests/cli/test_video.sh path/to/curray path/to/video_probe|none [repository root]
 #

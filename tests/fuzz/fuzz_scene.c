@@ -84,7 +84,7 @@ static void check_frame(const cr_frame *f, int n_spheres)
         CHECK(isfinite(f->r_max) || f->r_max == INFINITY);
     } else {
         CHECK(isfinite(f->observer.r) && f->observer.r > 0.0);
-        /* the largest field of view by projection (issue 13): below 180
+        /* the largest field of view by projection (observer.projection): below 180
          * deg on the flat screen, up to 360 deg for the fisheye, 360 x 180
          * for the panorama */
         double fov_max = f->observer.projection == CR_PROJ_RECTILINEAR ? CR_PI
