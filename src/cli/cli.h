@@ -5,12 +5,7 @@
 #include <stdio.h>
 
 #include "../base/error.h"
-
-typedef enum cr_backend_choice {
-    CR_BACKEND_AUTO = 0,
-    CR_BACKEND_CPU,
-    CR_BACKEND_CUDA
-} cr_backend_choice;
+#include "../render/backend.h" /* cr_backend_choice */
 
 /* Parsed command line. Tri-state booleans: -1 = not given (use the system
  * configuration), 0 = false, 1 = true. */

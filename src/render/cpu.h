@@ -7,10 +7,7 @@
 #include "../core/defs.h"
 #include "../base/error.h"
 #include "../base/limits.h" /* CR_SYSCONFIG_MAX_THREADS: curray's one thread limit */
-
-/* Called from the calling thread about every 0.25 s while a frame renders,
- * and once at the end, with the number of finished rows. */
-typedef void (*cr_progress_fn)(void *ctx, int rows_done, int rows_total);
+#include "backend.h"         /* cr_progress_fn: called about every 0.25 s and at the end */
 
 /* Trace every pixel of the prepared frame f into out[j * width + i] with
  * `threads` worker threads: 1 to CR_SYSCONFIG_MAX_THREADS (more is an error,

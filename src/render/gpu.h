@@ -18,8 +18,9 @@ extern "C" {
 
 #include "../base/error.h"
 
-/* Same contract as cr_progress_fn of the CPU backend: called from the
- * calling thread with the number of finished rows. */
+/* The type of backend.h's cr_progress_fn (spelt again here, since this
+ * header is also C++ for nvcc, and backend.h's C11 atomics are not): called
+ * from the calling thread with the number of finished rows. */
 typedef void (*cr_gpu_progress_fn)(void *ctx, int rows_done, int rows_total);
 
 /* Polled from the calling thread between kernel launches: non-zero stops the
