@@ -1,7 +1,8 @@
 /* The frame stack (src/render/run.h) over a fake backend, and the CPU
  * backend behind backend.h:
  * - order: one backend traces frames 0..n-1 in order, frame k+1 launched
- *   before frame k is delivered (the pipeline), every frame delivered once;
+ *   before frame k is delivered (the pipeline) with frame k's own prepared
+ *   frame, every frame delivered once;
  * - the first failure is the run's and stops the handing out of items;
  *   a frame whose successor cannot be launched is still delivered;
  * - the cancel flag stops the run: no item is taken after it is set;
@@ -162,6 +163,9 @@ static int sink_deliver(void *ctx, int worker, const cr_traced *t, cr_err *err)
     (void)worker;
     assert_int_equal(t->item.row0, 0);
     assert_int_equal(t->item.rows, H);
+    /* the frame traced, not the next one prepared meanwhile */
+    assert_non_null(t->frame);
+    assert_int_equal((int)t->frame->max_steps, t->item.frame);
     if (t->item.frame == r->fail_deliver_at)
         return cr_err_set(err, "deliver: frame %d refused", t->item.frame);
     rec_event(r, 'D', t->item.frame);

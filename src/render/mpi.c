@@ -1,6 +1,9 @@
 /* curray cli: spreading a run over MPI ranks (mpi.h). */
 #include "mpi.h"
 
+#include <stdatomic.h>
+#include <string.h>
+
 #ifndef CURRAY_MPI
 
 void cr_mpi_init(int *argc, char ***argv, int *rank, int *size, int *local_rank,
@@ -232,3 +235,99 @@ int cr_mpi_serve(int width, cr_mpi_render_fn render, void *ctx, cr_err *err)
 }
 
 #endif
+
+/* ---- the frame stack's source and sink (both builds) -------------------- */
+
+typedef struct cr_mpi_stack {
+    cr_stack *st;
+    int writer;
+    cr_backend b; /* a rank > 0's backend, opened at its first item */
+    int device, threads, opened;
+} cr_mpi_stack;
+
+static int cr_mpi_stack_next(void *ctx, int *k, int *row0, int *rows)
+{
+    cr_mpi_stack *m = ctx;
+    cr_item it;
+    if (cr_stack_take(m->st, &it))
+        return -1;
+    *k = it.frame;
+    *row0 = it.row0;
+    *rows = it.rows;
+    return 0;
+}
+
+static int cr_mpi_stack_deliver(void *ctx, int rank, int k, int row0, int rows,
+                                const cr_pixel *px, double seconds, cr_err *err)
+{
+    cr_mpi_stack *m = ctx;
+    cr_traced t;
+    (void)rank;
+    memset(&t, 0, sizeof t);
+    t.item.frame = k;
+    t.item.row0 = row0;
+    t.item.rows = rows;
+    t.px = px;
+    t.seconds = seconds;
+    t.device = -1;
+    return cr_stack_deliver(m->st, m->writer, &t, err);
+}
+
+static void cr_mpi_stack_failed(void *ctx, int rank, const char *msg)
+{
+    cr_err e;
+    cr_err_set(&e, "MPI rank %d: %s", rank, msg);
+    cr_stack_fail(((cr_mpi_stack *)ctx)->st, &e);
+}
+
+static int cr_mpi_stack_stop(void *ctx)
+{
+    const cr_stack *st = ((cr_mpi_stack *)ctx)->st;
+    return st->cancel && atomic_load(st->cancel) != 0;
+}
+
+int cr_mpi_dispatch_stack(cr_stack *st, int writer, int size, double *gather_s,
+                          double *gather_bytes)
+{
+    cr_mpi_stack m;
+    cr_mpi_ops ops;
+    memset(&m, 0, sizeof m);
+    m.st = st;
+    m.writer = writer;
+    ops.ctx = &m;
+    ops.width = st->width;
+    ops.next = cr_mpi_stack_next;
+    ops.deliver = cr_mpi_stack_deliver;
+    ops.failed = cr_mpi_stack_failed;
+    ops.stop = cr_mpi_stack_stop;
+    return cr_mpi_dispatch(&ops, size, gather_s, gather_bytes);
+}
+
+static int cr_mpi_stack_render(void *ctx, int k, int row0, int rows, cr_pixel *px,
+                               double *seconds, cr_err *err)
+{
+    cr_mpi_stack *m = ctx;
+    cr_item it;
+    if (!m->opened) {
+        if (cr_backend_open(&m->b, m->device, m->threads, m->st->width, m->st->height, err))
+            return -1;
+        m->opened = 1;
+    }
+    it.frame = k;
+    it.row0 = row0;
+    it.rows = rows;
+    return cr_stack_trace(m->st, &m->b, &it, px, seconds, err);
+}
+
+int cr_mpi_serve_stack(cr_stack *st, int device, int threads, cr_err *err)
+{
+    cr_mpi_stack m;
+    int rc;
+    memset(&m, 0, sizeof m);
+    m.st = st;
+    m.device = device;
+    m.threads = threads;
+    rc = cr_mpi_serve(st->width, cr_mpi_stack_render, &m, err);
+    cr_backend_close(&m.b);
+    return rc;
+}

@@ -21,6 +21,7 @@
 
 #include "../core/defs.h"
 #include "../base/error.h"
+#include "run.h"
 
 /* MPI_Init (threads: funnelled); rank and size of MPI_COMM_WORLD, and the
  * rank on this node and the number of ranks there (MPI_Comm_split_type
@@ -62,5 +63,18 @@ int cr_mpi_dispatch(const cr_mpi_ops *ops, int size, double *gather_s, double *g
 typedef int (*cr_mpi_render_fn)(void *ctx, int k, int row0, int rows, cr_pixel *px,
                                 double *seconds, cr_err *err);
 int cr_mpi_serve(int width, cr_mpi_render_fn render, void *ctx, cr_err *err);
+
+/* MPI as a source and sink of the frame stack's items (run.h). Rank 0:
+ * cr_mpi_dispatch over st: the items of cr_stack_take go to the other
+ * ranks, their pixels to cr_stack_deliver as worker `writer`, a rank's
+ * failure becomes the run's ("MPI rank R: <its message>"), and the
+ * stack's cancel flag stops at once. With size 1 it returns at once. */
+int cr_mpi_dispatch_stack(cr_stack *st, int writer, int size, double *gather_s,
+                          double *gather_bytes);
+
+/* A rank > 0: cr_mpi_serve, each item traced with cr_stack_trace(st) on
+ * a backend (device, threads; backend.h) opened at the first item and
+ * closed at the end. */
+int cr_mpi_serve_stack(cr_stack *st, int device, int threads, cr_err *err);
 
 #endif

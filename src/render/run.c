@@ -103,15 +103,33 @@ int cr_stack_take(cr_stack *st, cr_item *it)
     return 0;
 }
 
+/* A whole frame to the sink; without t->frame, the frame prepared again. */
+static int cr_stack_sink(cr_stack *st, int worker, const cr_traced *t, cr_err *err)
+{
+    cr_traced u = *t;
+    cr_frame f;
+    cr_sphere *spheres = NULL;
+    int rc = -1;
+    if (!u.frame) {
+        spheres = malloc(sizeof *spheres * (size_t)(st->max_spheres > 0 ? st->max_spheres : 1));
+        if (!spheres)
+            cr_err_set(err, "out of memory");
+        else if (st->ops.prepare(st->ops.ctx, u.item.frame, &f, spheres, err) == 0)
+            u.frame = &f;
+    }
+    if (u.frame)
+        rc = st->ops.deliver(st->ops.ctx, worker, &u, err);
+    free(spheres);
+    if (rc)
+        cr_stack_fail(st, err);
+    return rc;
+}
+
 int cr_stack_deliver(cr_stack *st, int worker, const cr_traced *t, cr_err *err)
 {
     size_t w = (size_t)st->width;
-    if (t->item.rows == st->height) {
-        if (st->ops.deliver(st->ops.ctx, worker, t, err) == 0)
-            return 0;
-        cr_stack_fail(st, err);
-        return -1;
-    }
+    if (t->item.rows == st->height)
+        return cr_stack_sink(st, worker, t, err);
     if (!st->assembly)
         return cr_err_set(err, "a block of rows %d to %d for a run of whole frames",
                           t->item.row0, t->item.row0 + t->item.rows - 1);
@@ -136,20 +154,23 @@ void cr_stack_finish(cr_stack *st)
     t.px = st->assembly;
     t.seconds = cr_stack_now() - st->t_first;
     t.device = st->n_backends > 0 ? st->backends[0].device : -1;
-    if (st->ops.deliver(st->ops.ctx, 0, &t, &err))
-        cr_stack_fail(st, &err);
+    cr_stack_sink(st, 0, &t, &err);
 }
 
 /* ---- one worker: a backend fed from the stack ---------------------------- */
 
+/* A worker's frames: slot cur holds the frame of the item being waited for
+ * (and then delivered), the other one the next item's, each with its
+ * spheres. A slot keeps its frame for the next item of the same frame. */
 typedef struct cr_worker {
     cr_stack *st;
     int index;
     cr_backend *b;
     cr_item item; /* the item being waited for */
-    cr_frame f;   /* the last frame prepared */
-    int f_k;      /* its number, -1: none */
-    cr_sphere *spheres;
+    int cur;
+    cr_frame f[2];
+    int f_k[2]; /* the frame number in each slot, -1: none */
+    cr_sphere *spheres[2];
 } cr_worker;
 
 static void cr_worker_progress(void *ctx, int rows_done, int rows_total)
@@ -165,23 +186,23 @@ static void cr_worker_begin(cr_worker *w, const cr_item *it)
         w->st->ops.begin(w->st->ops.ctx, w->index, it);
 }
 
-/* Frame k prepared (kept from the last item when it is the same frame). */
-static int cr_worker_prepare(cr_worker *w, int k, cr_err *err)
+/* Frame k prepared into slot s (kept when the slot holds it already). */
+static int cr_worker_prepare(cr_worker *w, int s, int k, cr_err *err)
 {
-    if (w->f_k == k)
+    if (w->f_k[s] == k)
         return 0;
-    w->f_k = -1;
-    if (w->st->ops.prepare(w->st->ops.ctx, k, &w->f, w->spheres, err))
+    w->f_k[s] = -1;
+    if (w->st->ops.prepare(w->st->ops.ctx, k, &w->f[s], w->spheres[s], err))
         return -1;
-    w->f_k = k;
+    w->f_k[s] = k;
     return 0;
 }
 
-static int cr_worker_launch(cr_worker *w, const cr_item *it, cr_err *err)
+static int cr_worker_launch(cr_worker *w, int s, const cr_item *it, cr_err *err)
 {
-    if (cr_worker_prepare(w, it->frame, err))
+    if (cr_worker_prepare(w, s, it->frame, err))
         return -1;
-    return cr_backend_launch(w->b, &w->f, it->row0, it->rows, err);
+    return cr_backend_launch(w->b, &w->f[s], it->row0, it->rows, err);
 }
 
 /* The item just waited for, to the sink (its pixels px, its time). */
@@ -189,6 +210,7 @@ static int cr_worker_deliver(cr_worker *w, const cr_pixel *px, double seconds, c
 {
     cr_traced t;
     t.item = w->item;
+    t.frame = &w->f[w->cur];
     t.px = px;
     t.seconds = seconds;
     t.device = w->b->device;
@@ -203,7 +225,8 @@ static int cr_worker_loop(cr_worker *w, cr_err *err)
     int more = 1;
     if (cr_stack_take(w->st, &w->item))
         return 0; /* nothing left for this worker */
-    if (cr_worker_launch(w, &w->item, err))
+    w->cur = 0;
+    if (cr_worker_launch(w, w->cur, &w->item, err))
         return -1;
     while (more) {
         const cr_pixel *px;
@@ -219,7 +242,7 @@ static int cr_worker_loop(cr_worker *w, cr_err *err)
         }
         more = cr_stack_take(w->st, &next) == 0;
         if (more)
-            next_rc = cr_worker_launch(w, &next, &next_err);
+            next_rc = cr_worker_launch(w, !w->cur, &next, &next_err);
         if (cr_worker_deliver(w, px, seconds, err))
             return -1;
         if (next_rc) {
@@ -227,6 +250,7 @@ static int cr_worker_loop(cr_worker *w, cr_err *err)
             return -1;
         }
         w->item = next;
+        w->cur = !w->cur;
     }
     return 0;
 }
@@ -238,14 +262,17 @@ static void *cr_worker_main(void *arg)
     cr_err err;
     w = *(cr_worker *)arg;
     free(arg);
+    size_t n = sizeof(cr_sphere) * (size_t)(st->max_spheres > 0 ? st->max_spheres : 1);
     err.msg[0] = '\0';
-    w.f_k = -1;
-    w.spheres = malloc(sizeof *w.spheres * (size_t)(st->max_spheres > 0 ? st->max_spheres : 1));
-    if (!w.spheres)
+    w.f_k[0] = w.f_k[1] = -1;
+    w.spheres[0] = malloc(n);
+    w.spheres[1] = malloc(n);
+    if (!w.spheres[0] || !w.spheres[1])
         cr_err_set(&err, "out of memory for %d spheres", st->max_spheres);
-    if (!w.spheres || cr_worker_loop(&w, &err))
+    if (!w.spheres[0] || !w.spheres[1] || cr_worker_loop(&w, &err))
         cr_stack_fail(st, &err);
-    free(w.spheres);
+    free(w.spheres[0]);
+    free(w.spheres[1]);
     return NULL;
 }
 

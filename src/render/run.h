@@ -38,7 +38,9 @@ typedef struct cr_item {
 /* An item's pixels, handed to the sink. */
 typedef struct cr_traced {
     cr_item item;
-    const cr_pixel *px; /* item.rows * width pixels, row-major */
+    const cr_frame *frame; /* the prepared frame the item was traced from; NULL in what
+                            * cr_stack_deliver is given (the stack prepares it again) */
+    const cr_pixel *px;    /* item.rows * width pixels, row-major */
     double seconds;     /* the backend's time for the item; for a frame assembled from
                          * blocks, the wall time from the first block taken to the last in */
     int device;         /* the CUDA device of the worker's backend, or -1 (the CPU, or
@@ -55,8 +57,8 @@ typedef struct cr_stack_ops {
     /* Frame k, prepared into *f with its spheres in spheres[] (room for
      * the stack's max_spheres). 0, or -1 with err set. */
     int (*prepare)(void *ctx, int k, cr_frame *f, cr_sphere *spheres, cr_err *err);
-    /* A whole frame's pixels: t->item is {k, 0, height}. 0, or -1 with err
-     * set (the run then fails with err). */
+    /* A whole frame's pixels: t->item is {k, 0, height}, t->frame the frame
+     * traced. 0, or -1 with err set (the run then fails with err). */
     int (*deliver)(void *ctx, int worker, const cr_traced *t, cr_err *err);
     /* The worker begins waiting for item it (may be NULL: the worker has
      * no item in progress any more, after a failure). May be NULL. */
@@ -120,9 +122,10 @@ void cr_stack_finish(cr_stack *st);
  * flag is set. Skipped frames are passed over. */
 int cr_stack_take(cr_stack *st, cr_item *it);
 
-/* An item's pixels into the run: a whole frame goes to the sink, a block
- * into the assembled frame. 0, or -1 with err set (the run's failure is
- * recorded too). */
+/* An item's pixels into the run: a whole frame goes to the sink (with
+ * t->frame NULL, the frame is prepared here again), a block into the
+ * assembled frame. 0, or -1 with err set (the run's failure is recorded
+ * too). */
 int cr_stack_deliver(cr_stack *st, int worker, const cr_traced *t, cr_err *err);
 
 /* Record a failure: the first one is the run's. */

@@ -1,0 +1,522 @@
+/* curray cli: everything before the render (app.h): the command line, the
+ * system configuration, the backend, the scene and its frames checked, the
+ * output folder checked, the summary and the prompt (E.1), the output
+ * folder, log file and crash handler. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "../base/fsutil.h"
+#include "../base/memcheck.h"
+#include "../output/fits.h"
+#include "../output/types.h"
+#include "../output/video.h"
+#include "../render/cpu.h"
+#include "../render/gpu.h"
+#include "../render/mpi.h"
+#include "app.h"
+#include "crash.h"
+#include "example.h"
+
+static int cr_prog_is_cpu(const char *argv0)
+{
+    const char *base = strrchr(argv0, '/');
+    base = base ? base + 1 : argv0;
+    return strcmp(base, "curray_cpu") == 0;
+}
+
+/* Parse the command line and answer -h, --version and -i. Returns -1 when
+ * the program should end now with *rc, else 0 (a render follows). */
+int cr_command_line(cr_run *run, int *rc)
+{
+    cr_err err;
+    err.msg[0] = '\0';
+    *rc = CR_EXIT_OK;
+    if (cr_cli_parse(run->argc, run->argv, cr_prog_is_cpu(run->argv[0]), &run->cli, &err)) {
+        fprintf(stderr, "curray: %s\n", err.msg);
+        *rc = CR_EXIT_USAGE;
+        return -1;
+    }
+    if (run->cli.help) {
+        cr_cli_usage(run->argv[0], stdout);
+        return -1;
+    }
+    if (run->cli.version) {
+        printf("curray %s\n", CURRAY_VERSION);
+        return -1;
+    }
+    if (run->cli.example) {
+        fputs(cr_example_scene, stdout);
+        return -1;
+    }
+    if (run->cli.info) {
+        cr_gpu_print_info(stdout);
+        if (!run->cli.scene_path) {
+            printf("\nNo scene file specified, no raytracing will be performed.\n");
+            return -1;
+        }
+    }
+    if (cr_cli_check_render(&run->cli, &err)) {
+        fprintf(stderr, "curray: %s\n", err.msg);
+        *rc = CR_EXIT_USAGE;
+        return -1;
+    }
+    if (run->cli.trace)
+        run->cli.output_type = ""; /* --trace writes only the path files */
+    return 0;
+}
+
+/* The system configuration: -c, else config.yml when present, else the
+ * defaults; then the command line's overrides, the thread count in use and
+ * the trace settings. */
+static int cr_configure(cr_run *run, cr_err *err)
+{
+    cr_sysconfig_defaults(&run->cfg);
+    if (run->cli.config_path || access("config.yml", F_OK) == 0) {
+        if (!run->cli.config_path)
+            run->cli.config_path = "config.yml";
+        if (cr_sysconfig_load(run->cli.config_path, &run->cfg, err))
+            return -1;
+    }
+    if (run->cli.verbose >= 0)
+        run->cfg.verbose = run->cli.verbose;
+    if (run->cli.quiet >= 0)
+        run->cfg.quiet = run->cli.quiet;
+    if (run->cli.auto_accept >= 0)
+        run->cfg.auto_accept = run->cli.auto_accept;
+    run->threads = cr_backend_cpu_threads(run->cli.threads, run->cfg.cpu_threads);
+    run->ts = run->cfg.raytracer;
+    return 0;
+}
+
+/* MPI: every rank checks the run (same arguments, same files); a one-frame
+ * run needs a row per rank. */
+static int cr_mpi_check(cr_run *run, cr_err *err)
+{
+    if (run->mpi_size < 2)
+        return 0;
+    if (run->cli.frames == 1 && run->mpi_size > run->cli.height)
+        return cr_err_set(err,
+                          "%d MPI ranks for a one-frame run of %ld rows: more ranks than rows; "
+                          "use at most %ld ranks, or a taller frame",
+                          run->mpi_size, run->cli.height, run->cli.height);
+    return 0;
+}
+
+/* An MPI run traces on GPUs on every rank or on none (so its files are a
+ * one-process run's on that backend): given the n GPUs chosen on this rank
+ * (run->devices), every rank says whether it has one (a collective call,
+ * made once by every rank when the backend is not cpu: see
+ * cr_mpi_skip_gpus). When all do, this rank's GPU is the one of its local
+ * rank (cr_gpu_for_local_rank) and 1 is returned; else 0 with the reason in
+ * err. */
+static int cr_mpi_gpus(cr_run *run, int n, cr_err *err)
+{
+    cr_err note;
+    if (!cr_mpi_all_ok(n > 0)) {
+        if (n > 0)
+            cr_err_set(err, "another MPI rank has no usable GPU (an MPI run traces on GPUs on "
+                            "every rank or on none)");
+        return 0;
+    }
+    run->devices[0] = cr_gpu_for_local_rank(run->devices, n, run->mpi_local_rank,
+                                            run->mpi_local_size, &note);
+    cr_log_detail(&run->log, "MPI rank %d (local rank %d of %d on %s) traces on GPU %d",
+                  run->mpi_rank, run->mpi_local_rank, run->mpi_local_size, cr_mpi_host(),
+                  run->devices[0]);
+    if (note.msg[0])
+        cr_log_info(&run->log, "curray: warning: %s", note.msg);
+    return 1;
+}
+
+/* A rank that stops before cr_choose_backend still takes part in
+ * cr_mpi_gpus' collective call, so that the ranks' collective calls pair
+ * up (cr_mpi_ready's comes next on every rank). */
+static void cr_mpi_skip_gpus(const cr_run *run)
+{
+    if (run->mpi_size > 1 && run->cli.backend != CR_BACKEND_CPU)
+        cr_mpi_all_ok(0);
+}
+
+/* CUDA when asked for or (auto) when an enabled GPU is usable, else the CPU
+ * (cr_backend_choose; in an MPI run one GPU per rank, cr_mpi_gpus). Fills
+ * devices, n_workers, use_cuda and backend_name. */
+static int cr_choose_backend(cr_run *run)
+{
+    cr_err gerr;
+    int n;
+    run->use_cuda = 0;
+    run->n_workers = 1;
+    if (run->cli.backend != CR_BACKEND_CPU) {
+        n = cr_backend_choose(run->cli.backend, run->cfg.gpu_enabled, CR_MAX_GPUS, run->devices,
+                              CR_MAX_GPUS, &gerr);
+        if (n < 0)
+            n = 0; /* --backend cuda without a GPU: refused below, after MPI's collective */
+        if (run->mpi_size > 1)
+            n = cr_mpi_gpus(run, n, &gerr);
+        if (n > 0) {
+            run->use_cuda = 1;
+            run->n_workers = n;
+            if (gerr.msg[0])
+                cr_log_info(&run->log, "curray: warning: %s", gerr.msg);
+        } else if (run->cli.backend == CR_BACKEND_CUDA && run->mpi_size > 1) {
+            cr_log_error(&run->log, "curray: MPI rank %d on %s: --backend cuda: %s",
+                         run->mpi_rank, cr_mpi_host(), gerr.msg);
+            return -1;
+        } else if (run->cli.backend == CR_BACKEND_CUDA) {
+            cr_log_error(&run->log, "curray: --backend cuda: %s", gerr.msg);
+            return -1;
+        } else {
+            cr_log_detail(&run->log, "using the CPU: %s", gerr.msg);
+        }
+    }
+    if (run->use_cuda)
+        snprintf(run->backend_name, sizeof run->backend_name, "cuda (%d GPU%s)", run->n_workers,
+                 run->n_workers > 1 ? "s" : "");
+    else
+        snprintf(run->backend_name, sizeof run->backend_name, "cpu (%d thread%s)", run->threads,
+                 run->threads > 1 ? "s" : "");
+    return 0;
+}
+
+/* Refuse, before anything large is allocated, a run whose buffers cannot fit
+ * in memory: per worker a frame of cr_pixel (two for a GPU worker, whose
+ * session holds the frame being written and the next one), plus the 8-bit
+ * image written from it and the per-frame statistics. The limit is the physical memory, or
+ * the address-space or data limit (ulimit -v, -d) when lower
+ * (cr_cpu_memory_check, which the Python package uses too). */
+static int cr_check_memory(const cr_run *run, int n_workers, cr_err *err)
+{
+    double px = (double)run->cli.width * (double)run->cli.height;
+    double need = px * ((double)sizeof(cr_pixel) * n_workers * (run->use_cuda ? 2 : 1) + 3.0) +
+                  (double)run->cli.frames * (double)(sizeof(cr_frame_stats) + 1);
+    cr_err mem;
+    /* and what else the run holds: each worker's FITS file while it is
+     * written, the sky image once the scene is loaded, and the stacks of
+     * the threads (the render threads of each worker, the workers, the
+     * Ctrl-C stopper) */
+    if (cr_has_type(run, 'f'))
+        need += n_workers * cr_fits_memory((int)run->cli.width, (int)run->cli.height);
+    if (run->scene.sky_rgb)
+        need += 3.0 * (double)run->scene.sky_width * (double)run->scene.sky_height;
+    need += (double)(n_workers * (run->use_cuda ? 1 : run->threads) + n_workers + 1) *
+            cr_mem_thread_stack();
+    if (cr_cpu_memory_check(need, &mem))
+        return cr_err_set(err, "a %ldx%ld frame (%ld frame%s) %s; choose a smaller -x/-y",
+                          run->cli.width, run->cli.height, run->cli.frames,
+                          run->cli.frames > 1 ? "s" : "", mem.msg);
+    return 0;
+}
+
+/* Every frame must be possible before any is rendered. */
+static int cr_check_frames(cr_run *run, cr_err *err)
+{
+    cr_sphere *tmp = malloc(sizeof *tmp * (size_t)(run->scene.n_spheres + 1));
+    cr_frame f;
+    int k, rc = 0;
+    if (!tmp)
+        return cr_err_set(err, "out of memory");
+    int shrunk = -1;
+    double eps_min = 0.0;
+    for (k = 0; k < run->cli.frames && rc == 0; k++) {
+        rc = cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                            (int)run->cli.height, &run->ts, &f, tmp, err);
+        if (rc == 0 && (k == 0 || k == run->cli.frames - 1)) {
+            /* the first and last frame, for info.txt (spheres not kept) */
+            run->ends[k > 0] = f;
+            run->ends[k > 0].spheres = NULL;
+            if (run->cli.frames == 1)
+                run->ends[1] = run->ends[0];
+        }
+        if (rc == 0 && f.horizon_epsilon < run->ts.horizon_epsilon &&
+            (shrunk < 0 || f.horizon_epsilon < eps_min)) {
+            shrunk = k;
+            eps_min = f.horizon_epsilon;
+        }
+    }
+    if (rc == 0 && shrunk >= 0)
+        cr_log_info(&run->log,
+                    "curray: warning: the observer is closer to the horizon than 2 x "
+                    "raytracer.horizon_epsilon = %g M (frame %d): rays stop halfway between "
+                    "it and r+ instead, from %g M above r+",
+                    run->ts.horizon_epsilon, shrunk, eps_min);
+    if (rc == 0) {
+        cr_err hints[8];
+        int h, nh = cr_scene_hints(&run->scene, (int)run->cli.frames, hints, 8);
+        for (h = 0; h < nh; h++)
+            cr_log_info(&run->log, "curray: warning: %s", hints[h].msg);
+    }
+    free(tmp);
+    return rc;
+}
+
+/* Ask whether to proceed (E.1), only when someone can answer. */
+static int cr_confirm(cr_run *run)
+{
+    char line[64];
+    if (run->cfg.auto_accept || run->cfg.quiet || !isatty(STDIN_FILENO))
+        return 1;
+    fputs("Proceed with rendering? [Y/n] ", stdout);
+    fflush(stdout);
+    if (!fgets(line, sizeof line, stdin))
+        return 0;
+    return cr_cli_answer_yes(line);
+}
+
+static void cr_log_scene(cr_run *run)
+{
+    const cr_scene *s = &run->scene;
+    const double deg = 180.0 / CR_PI;
+    char range[48] = "";
+    cr_log_info(&run->log, "scene %s: M = %g, a = %g, Q = %g%s", s->path, s->m.a, s->a.a, s->q.a,
+                (s->m.a != s->m.b || s->a.a != s->a.b || s->q.a != s->q.b) ? " (animated)" : "");
+    if (s->obs_at_infinity)
+        cr_log_info(&run->log,
+                    "observer at infinity, theta = %g deg, phi = %g deg, image plane %g M wide%s",
+                    s->obs_theta.a * deg, s->obs_phi.a * deg, s->hextent.a,
+                    run->cli.frames > 1 ? " (frame 0)" : "");
+    else
+        cr_log_info(&run->log, "observer at r = %g, theta = %g deg, phi = %g deg, hfov %g deg%s",
+                    s->obs_r.a, s->obs_theta.a * deg, s->obs_phi.a * deg, s->hfov.a * deg,
+                    run->cli.frames > 1 ? " (frame 0)" : "");
+    if (s->has_disc)
+        cr_log_info(&run->log, "disc from r = %g to %g, %dx%d squares", s->disc_r_in.a,
+                    s->disc_r_out.a, s->disc_n_radial, s->disc_n_sectors);
+    if (s->n_spheres)
+        cr_log_info(&run->log, "%d sphere%s", s->n_spheres, s->n_spheres > 1 ? "s" : "");
+    if (s->has_sky && s->sky_at_infinity)
+        cr_log_info(&run->log, "sky map %s (%dx%d) at infinity", s->sky_image, s->sky_width,
+                    s->sky_height);
+    else if (s->has_sky)
+        cr_log_info(&run->log, "sky map %s (%dx%d), boundary %g", s->sky_image, s->sky_width,
+                    s->sky_height, s->sky_boundary.a);
+    if (run->cli.frames > 1)
+        snprintf(range, sizeof range, "s (0 to %ld)", run->cli.frames - 1);
+    cr_log_info(&run->log, "%ld frame%s of %ldx%ld pixels, outputs '%s' into %s, backend %s",
+                run->cli.frames, range, run->cli.width, run->cli.height, run->cli.output_type,
+                run->cli.output_dir, run->info.backend);
+    cr_log_detail(&run->log, "raytracer: integrator %s, tolerance %g (mino), step multiplier %g "
+                             "(rk4), horizon epsilon %g, max steps %ld, max turns %g; %d CPU "
+                             "threads",
+                  cr_integrator_name(run->ts.integrator), run->ts.tolerance,
+                  run->ts.step_multiplier, run->ts.horizon_epsilon, run->ts.max_steps,
+                  run->ts.max_turns, run->threads);
+}
+
+/* The run's settings as text, for a crash report: the command line, the
+ * folder it ran in, and the settings in use. malloc'ed; NULL when out of
+ * memory. */
+static char *cr_settings_text(const cr_run *run)
+{
+    char *text = NULL, cwd[4096];
+    size_t len = 0;
+    FILE *fp = open_memstream(&text, &len);
+    int k;
+    if (!fp)
+        return NULL;
+    fputs("command line:", fp);
+    for (k = 0; k < run->argc; k++)
+        fprintf(fp, " %s", run->argv[k]);
+    fprintf(fp, "\nworking folder: %s\n", getcwd(cwd, sizeof cwd) ? cwd : "(unknown)");
+    fprintf(fp, "scene: %s\nconfiguration: %s\n", run->cli.scene_path,
+            run->cli.config_path ? run->cli.config_path : "(built-in defaults)");
+    fprintf(fp, "output: %s, types '%s'; %ld frame%s of %ldx%ld pixels\n", run->cli.output_dir,
+            run->cli.output_type, run->cli.frames, run->cli.frames > 1 ? "s" : "",
+            run->cli.width, run->cli.height);
+    fprintf(fp, "backend: %s", run->backend_name);
+    for (k = 0; run->use_cuda && k < run->n_workers; k++)
+        fprintf(fp, "%s%d", k ? ", " : "; GPUs ", run->devices[k]);
+    fprintf(fp, "\nraytracer: integrator %s, tolerance %g, step multiplier %g, horizon epsilon "
+                "%g, max steps %ld, max turns %g\n",
+            cr_integrator_name(run->ts.integrator), run->ts.tolerance, run->ts.step_multiplier,
+            run->ts.horizon_epsilon, run->ts.max_steps, run->ts.max_turns);
+    if (fclose(fp) != 0) {
+        free(text);
+        return NULL;
+    }
+    return text;
+}
+
+/* Create the output folder, start the log file in <output>/log and install
+ * the crash handler. */
+static int cr_prepare_output(cr_run *run, cr_err *err)
+{
+    char log_dir[4096];
+    cr_err lerr;
+    if (cr_mkdir_p(run->cli.output_dir, err) ||
+        cr_dirlock_take(&run->dirlock, run->cli.output_dir, err) < 0)
+        return -1;
+    if (cr_path_join(log_dir, sizeof log_dir, run->cli.output_dir, "log") != 0)
+        log_dir[0] = '\0';
+    if (cr_log_attach(&run->log, log_dir, run->cfg.keep_log, &lerr))
+        cr_log_error(&run->log, "curray: warning: %s (logging to the console only)", lerr.msg);
+    run->settings = cr_settings_text(run);
+    if (cr_crash_install(log_dir, CURRAY_VERSION, run->settings ? run->settings : "", &lerr))
+        cr_log_error(&run->log, "curray: warning: %s (no crash report)", lerr.msg);
+    return 0;
+}
+
+/* What the output folder holds already (resume.h): the run hash for
+ * info.txt; stale frame files, reported on the console and in info.txt and
+ * never deleted; with --resume, the earlier run's finished frames (a record
+ * in its info.txt, whose hash must match, and every file present), which
+ * this run keeps. */
+static int cr_check_folder(cr_run *run, cr_err *err)
+{
+    const char *dir = run->cli.output_dir;
+    char video[64] = "";
+    int n, k;
+    cr_output_frame_letters(run->cli.output_type, run->frame_types, sizeof run->frame_types);
+    if (cr_has_type(run, 'v')) {
+        if (!cr_video_available())
+            return cr_err_set(err, "-t v: %s", CR_VIDEO_UNAVAILABLE);
+        snprintf(video, sizeof video, "video fps %d", run->cfg.video_fps);
+    }
+    if (cr_run_hash(&run->scene, &run->cfg, run->cli.width, run->cli.height, run->cli.frames,
+                    run->cli.output_type, run->use_cuda, video, run->hash, err))
+        return -1;
+    run->info.hash = run->hash;
+    if (cr_dirlock_take(&run->dirlock, dir, err) < 0 || /* 1: no folder yet, taken once made */
+        (cr_has_type(run, 'i') && cr_info_path_check(dir, err)))
+        return -1;
+    n = cr_stale_scan(dir, (int)run->cli.frames, run->frame_types, &run->stale);
+    if (n < 0)
+        return cr_err_set(err, "out of memory scanning %s", dir);
+    if (n > 0) {
+        run->info.stale = run->stale;
+        cr_log_info(&run->log,
+                    "curray: warning: %s holds %d frame file%s that this run does not "
+                    "overwrite, from an earlier run: %s; curray leaves them as they are "
+                    "(delete them yourself if they are not wanted)",
+                    dir, n, n > 1 ? "s" : "", run->stale);
+    }
+    if (!run->cli.resume)
+        return 0;
+    if (!cr_has_type(run, 'i'))
+        return cr_err_set(err, "--resume needs info.txt, which records the frames an earlier run "
+                               "finished: add i to -t (and use the same -t as that run)");
+    if (cr_resume_load(&run->resume, dir, run->hash, (int)run->cli.frames, err))
+        return -1;
+    run->info.started = run->resume.started[0] ? run->resume.started : NULL;
+    if ((k = cr_resume_verify(&run->resume, dir, run->frame_types, err)) < 0)
+        return -1;
+    if (k > 0)
+        cr_log_info(&run->log, "curray: warning: --resume: %d finished frame%s rendered again: "
+                    "%s no longer match%s info.txt (%s)", k, k > 1 ? "s are" : " is",
+                    k > 1 ? "their files" : "its files", k > 1 ? "" : "es", run->resume.why);
+    run->n_kept = run->resume.n_records;
+    cr_log_info(&run->log, "resuming: %d of %ld frame%s finished by the earlier run, %ld to render",
+                run->n_kept, run->cli.frames, run->cli.frames > 1 ? "s" : "",
+                run->cli.frames - run->n_kept);
+    return 0;
+}
+
+/* The configuration and the log (console now, the file once the output
+ * folder exists, log.h). */
+int cr_configure_run(cr_run *run, int *rc)
+{
+    cr_err err;
+    err.msg[0] = '\0';
+    *rc = CR_EXIT_ERROR;
+    if (cr_configure(run, &err)) {
+        fprintf(stderr, "curray: configuration file %s\n", err.msg);
+        cr_mpi_skip_gpus(run);
+        return -1;
+    }
+    cr_log_hold(&run->log, run->cfg.verbose, run->cfg.quiet || run->mpi_rank > 0);
+    run->log_open = 1;
+    if (cr_mpi_check(run, &err)) {
+        if (run->mpi_rank == 0) /* every rank finds the same */
+            cr_log_error(&run->log, "curray: %s", err.msg);
+        cr_mpi_skip_gpus(run);
+        return -1;
+    }
+    cr_log_detail(&run->log, "curray %s, configuration %s", CURRAY_VERSION,
+                  run->cli.config_path ? run->cli.config_path : "(built-in defaults)");
+    return 0;
+}
+
+/* The backend, the memory the run needs, the scene and every frame of it
+ * checked before any is rendered (on every MPI rank). */
+int cr_plan(cr_run *run, int *rc)
+{
+    cr_err err;
+    err.msg[0] = '\0';
+    *rc = CR_EXIT_ERROR;
+    if (cr_choose_backend(run))
+        return -1;
+    if (cr_check_memory(run, run->n_workers, &err)) {
+        cr_log_error(&run->log, "curray: %s", err.msg);
+        return -1;
+    }
+    if (cr_scene_load(run->cli.scene_path, &run->scene, &err) || cr_check_frames(run, &err)) {
+        cr_log_error(&run->log, "curray: scene file %s", err.msg);
+        return -1;
+    }
+    if (run->scene.sky_rgb && cr_check_memory(run, run->n_workers, &err)) { /* with the sky */
+        cr_log_error(&run->log, "curray: %s", err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+/* What info.txt describes besides the scene and configuration. */
+static void cr_describe_run(cr_run *run)
+{
+    if (run->mpi_size > 1) {
+        size_t n = strlen(run->backend_name);
+        snprintf(run->backend_name + n, sizeof run->backend_name - n, " on each of %d MPI ranks",
+                 run->mpi_size);
+    }
+    run->info.scene_path = run->cli.scene_path;
+    run->info.config_path = run->cli.config_path;
+    run->info.backend = run->backend_name;
+    run->info.width = (int)run->cli.width;
+    run->info.height = (int)run->cli.height;
+    run->info.frames = (int)run->cli.frames;
+    run->info.output_types = run->cli.output_type;
+    run->info.version = CURRAY_VERSION;
+    run->info.first = &run->ends[0];
+    run->info.last = &run->ends[1];
+}
+
+/* Rank 0: the output folder checked, info.txt's header, the summary and
+ * the prompt; then the output folder, the log file and the crash handler. */
+int cr_confirm_run(cr_run *run, int *rc)
+{
+    cr_err err;
+    int n;
+    err.msg[0] = '\0';
+    *rc = CR_EXIT_ERROR;
+    cr_describe_run(run);
+    if (cr_check_folder(run, &err)) {
+        cr_log_error(&run->log, "curray: %s", err.msg);
+        return -1;
+    }
+    if (cr_has_type(run, 'i')) {
+        /* info.txt shows the CPU threads in use, not the file's value */
+        cr_sysconfig used = run->cfg;
+        used.cpu_threads = run->threads;
+        if (cr_info_begin(&run->infotxt, run->cli.output_dir, &run->info, &run->scene, &used,
+                          &err)) {
+            cr_log_error(&run->log, "curray: %s", err.msg);
+            return -1;
+        }
+    }
+    cr_log_scene(run);
+    if (!cr_confirm(run)) {
+        cr_log_info(&run->log, "not rendering (declined)");
+        *rc = CR_EXIT_OK;
+        return -1;
+    }
+    if (cr_prepare_output(run, &err) ||
+        cr_info_resume(&run->infotxt, run->resume.body, run->resume.order, run->n_kept, &err)) {
+        cr_log_error(&run->log, "curray: %s", err.msg);
+        return -1;
+    }
+    if ((n = cr_remove_dead_temps(run->cli.output_dir)) > 0)
+        cr_log_info(&run->log, "removed %d temporary file%s left by a curray that was killed", n,
+                    n > 1 ? "s" : "");
+    return 0;
+}
