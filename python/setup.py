@@ -1,7 +1,8 @@
 """Build curray's C extension from the repository's own sources.
 
 The extension compiles the same files as the command line's library
-(src/core headers, the scene/configuration loaders and the CPU backend),
+(src/core headers, the scene/configuration loaders, the CPU backend, the
+backend interface and the frame stack),
 so ``pip install ./python`` needs the repository around this folder and the
 libraries the command line links: libyaml, libpng, zlib (Debian:
 libyaml-dev libpng-dev zlib1g-dev; tools/install-deps.sh installs them).
@@ -48,7 +49,7 @@ LIB_SOURCES = [
     "base/png_io.c",
     "input/names.c", "input/scene.c", "input/settings.c", "input/yamlutil.c", "input/sysconfig.c",
     "output/info.c", "output/raypath.c", "output/output.c",
-    "render/cpu.c",
+    "render/cpu.c", "render/backend.c", "render/run.c",
 ]
 
 ext = Extension(

@@ -1,7 +1,8 @@
 /* curray._curray: the C side of the Python package (python/README section of
  * the top README). It calls the same library as the command line: the scene
- * and configuration loaders (src/input, src/output), the CPU backend (src/render) and the core
- * trace loop (src/core, with its path recorder for trace()). Every failure
+ * and configuration loaders (src/input, src/output), the backend choice and
+ * the frame stack over the backends (src/render: backend.h, run.h) and the
+ * core trace loop (src/core, with its path recorder for trace()). Every failure
  * comes back as a cr_err message and is raised as ValueError (bad input) or
  * MemoryError; nothing here exits or prints.
  *
@@ -17,8 +18,10 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "render/backend.h"
 #include "render/cpu.h"
 #include "render/gpu.h"
+#include "render/run.h"
 #include "output/info.h"
 #include "output/output.h"
 #include "output/raypath.h"
@@ -150,10 +153,10 @@ typedef struct cr_py_wait {
     int raised;
 } cr_py_wait;
 
-/* Called from the calling thread while the render runs (the CPU backend's
- * progress, about every 0.25 s; the GPU's cancel check, after each chunk of
- * rows): take the GIL only to run Python's signal handlers, and stop the
- * render when one raised. Returns 1 when the render is to stop. */
+/* Called from the calling thread while the render runs (the backend's
+ * progress: the CPU's about every 0.25 s, the GPU's after each chunk of
+ * rows): take the GIL only to run Python's signal handlers, and set the
+ * cancel flag when one raised. Returns 1 when the render is to stop. */
 static int cr_py_poll(void *ctx)
 {
     cr_py_wait *w = ctx;
@@ -175,7 +178,7 @@ static void cr_py_progress(void *ctx, int rows_done, int rows_total)
     (void)cr_py_poll(ctx);
 }
 
-/* The command line's backend choice (--backend, cr_gpu_choose): "cuda"
+/* The command line's backend choice (--backend, cr_backend_choose): "cuda"
  * when asked for, or ("auto") when a GPU enabled in the configuration is
  * usable, else the CPU. Returns the device to trace on, -1 for the CPU, or
  * -2 with ValueError set ("cuda" without a usable GPU: the reason; a name
@@ -183,53 +186,92 @@ static void cr_py_progress(void *ctx, int rows_done, int rows_total)
 static int cr_py_backend(const char *backend, const cr_sysconfig *cfg)
 {
     int devices[CR_MAX_GPUS];
+    cr_backend_choice want;
     cr_err gerr;
-    int cpu = strcmp(backend, "cpu") == 0, cuda = strcmp(backend, "cuda") == 0;
-    if (!cpu && !cuda && strcmp(backend, "auto") != 0) {
+    if (strcmp(backend, "cpu") == 0)
+        want = CR_BACKEND_CPU;
+    else if (strcmp(backend, "cuda") == 0)
+        want = CR_BACKEND_CUDA;
+    else if (strcmp(backend, "auto") == 0)
+        want = CR_BACKEND_AUTO;
+    else {
         PyErr_Format(PyExc_ValueError, "backend: expected auto, cpu or cuda, got '%s'",
                      backend);
         return -2;
     }
-    if (cpu)
+    switch (cr_backend_choose(want, cfg->gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS,
+                              &gerr)) {
+    case 0:
         return -1;
-    if (cr_gpu_choose(cfg->gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS, &gerr) > 0)
-        return devices[0];
-    if (cuda) {
+    case -1:
         PyErr_Format(PyExc_ValueError, "backend cuda: %s", gerr.msg);
         return -2;
+    default:
+        return devices[0];
     }
-    return -1;
 }
 
-/* Trace the frame on the CPU threads (device < 0) or on GPU `device`
- * (a session of one frame) and fill the arrays a[] from the pixels, with
- * the GIL released but for the signal checks of cr_py_poll. px: a buffer
- * of the frame's pixels for the CPU. Returns 0; -1 with err set; or -2 when
- * a signal handler raised (its exception is set). */
-static int cr_py_trace_frame(const cr_py_job *j, int device, cr_pixel *px, char **a,
-                             cr_err *err)
+/* The frame stack (render/run.h) of one frame, the job's: prepare hands
+ * out the frame prepared already, deliver fills the arrays. */
+typedef struct cr_py_run {
+    const cr_py_job *j;
+    char **a;
+    cr_py_wait *w;
+} cr_py_run;
+
+static int cr_py_stack_prepare(void *ctx, int k, cr_frame *f, cr_sphere *spheres, cr_err *err)
 {
-    size_t n = (size_t)j->f.width * (size_t)j->f.height;
+    (void)k;
+    (void)spheres; /* f->spheres stays the job's */
+    (void)err;
+    *f = ((cr_py_run *)ctx)->j->f;
+    return 0;
+}
+
+static int cr_py_stack_deliver(void *ctx, int worker, const cr_traced *t, cr_err *err)
+{
+    cr_py_run *r = ctx;
+    (void)worker;
+    (void)err;
+    if (!r->w->raised)
+        cr_py_fill(t->px, (size_t)r->j->f.width * (size_t)r->j->f.height, r->a);
+    return 0;
+}
+
+static void cr_py_stack_progress(void *ctx, int worker, const cr_item *it, int rows_done,
+                                 int rows_total)
+{
+    (void)worker;
+    (void)it;
+    cr_py_progress(((cr_py_run *)ctx)->w, rows_done, rows_total);
+}
+
+/* Trace the frame on the opened backend b through the frame stack, as the
+ * command line does, and fill the arrays a[] from the pixels, with the GIL
+ * released but for the signal checks of cr_py_poll. Returns 0; -1 with err
+ * set; or -2 when a signal handler raised (its exception is set). */
+static int cr_py_trace_frame(const cr_py_job *j, cr_backend *b, char **a, cr_err *err)
+{
+    cr_stack_ops ops = {NULL, cr_py_stack_prepare, cr_py_stack_deliver, NULL,
+                        cr_py_stack_progress};
+    cr_py_run r;
+    cr_stack st;
     cr_py_wait w;
-    int rc = 0;
+    int rc;
     w.raised = 0;
     atomic_init(&w.cancel, 0);
+    r.j = j;
+    r.a = a;
+    r.w = &w;
+    ops.ctx = &r;
     w.ts = PyEval_SaveThread();
-    if (device < 0) {
-        rc = cr_cpu_render(&j->f, j->cfg.cpu_threads, px, cr_py_progress, &w, &w.cancel, err);
-    } else {
-        cr_gpu_session *s = cr_gpu_session_create(device, n, err);
-        const cr_pixel *gpx = NULL;
-        if (s && cr_gpu_session_launch(s, &j->f, err) == 0)
-            gpx = cr_gpu_session_wait(s, NULL, cr_py_poll, &w, NULL, err);
-        if (gpx && !w.raised)
-            cr_py_fill(gpx, n, a);
-        cr_gpu_session_free(s);
-        rc = gpx ? 0 : -1;
-        px = NULL; /* filled from the session's buffer */
+    rc = cr_stack_init(&st, &ops, 1, j->f.width, j->f.height, j->f.height, NULL, 1, &w.cancel,
+                       b, 1, err);
+    if (rc == 0) {
+        cr_stack_run(&st);
+        rc = cr_stack_failed(&st, err) ? -1 : 0;
+        cr_stack_free(&st);
     }
-    if (rc == 0 && px && !w.raised)
-        cr_py_fill(px, n, a);
     PyEval_RestoreThread(w.ts);
     return w.raised ? -2 : rc;
 }
@@ -245,7 +287,7 @@ static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
     long width, height, fk, nf;
     size_t n, per_px;
     cr_py_job j;
-    cr_pixel *px = NULL;
+    cr_backend b;
     char *ptr[CR_A_N];
     PyObject *out = NULL;
     cr_err err;
@@ -273,8 +315,12 @@ static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
                      width, height, err.msg);
         return NULL;
     }
-    if (device < 0 && !(px = malloc(n * sizeof *px)))
-        goto nomem;
+    /* the CPU backend's buffer of the frame's pixels, or the GPU session */
+    if (cr_backend_open(&b, device, cr_backend_cpu_threads(0, j.cfg.cpu_threads), (int)width,
+                        (int)height, &err)) {
+        cr_py_job_free(&j);
+        return device < 0 ? PyErr_NoMemory() : cr_py_value_error("", &err);
+    }
     if (!(out = PyDict_New()))
         goto nomem;
     for (k = 0; k < CR_A_N; k++) {
@@ -287,8 +333,8 @@ static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
         Py_DECREF(b); /* the dict holds it */
     }
     err.msg[0] = '\0';
-    rc = cr_py_trace_frame(&j, device, px, ptr, &err);
-    free(px);
+    rc = cr_py_trace_frame(&j, &b, ptr, &err);
+    cr_backend_close(&b);
     cr_py_job_free(&j);
     if (rc) {
         Py_DECREF(out);
@@ -296,7 +342,7 @@ static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
     }
     return out;
 nomem:
-    free(px);
+    cr_backend_close(&b);
     cr_py_job_free(&j);
     Py_XDECREF(out);
     return PyErr_NoMemory();
@@ -312,7 +358,8 @@ static PyObject *cr_py_backend_info(PyObject *self, PyObject *unused)
     (void)self;
     (void)unused;
     cr_sysconfig_defaults(&cfg);
-    if (cr_gpu_choose(cfg.gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS, &gerr) > 0)
+    if (cr_backend_choose(CR_BACKEND_AUTO, cfg.gpu_enabled, CR_MAX_GPUS, devices, CR_MAX_GPUS,
+                          &gerr) > 0)
         return Py_BuildValue("(Nis)", PyBool_FromLong(cr_gpu_built()), devices[0], gerr.msg);
     return Py_BuildValue("(NOs)", PyBool_FromLong(cr_gpu_built()), Py_None, gerr.msg);
 }
