@@ -1,5 +1,7 @@
 /* curray base: will this much memory fit? (memcheck.h) */
+#ifndef _GNU_SOURCE
 #define _GNU_SOURCE /* pthread_getattr_default_np */
+#endif
 #include "memcheck.h"
 
 #include <pthread.h>
