@@ -47,6 +47,7 @@ def version():
 LIB_SOURCES = [
     "base/error.c", "base/fsutil.c", "base/atomic.c", "base/log.c", "base/memcheck.c",
     "base/png_io.c",
+    "base/shortest.c",
     "input/names.c", "input/scene.c", "input/settings.c", "input/yamlutil.c", "input/sysconfig.c",
     "output/info.c", "output/raypath.c", "output/output.c",
     "render/cpu.c", "render/backend.c", "render/run.c",

@@ -726,7 +726,7 @@ static void test_csv_roundtrip(void **state)
                             px[i].outcome == CR_OUT_DISC && px[i].bolo >= 0.0 ? line + n_hit
                                                                                : ",-1\n");
         if (px[i].outcome == CR_OUT_DISC || px[i].outcome == CR_OUT_SPHERE) {
-            assert_true(hr == px[i].hit_r); /* exact: %.17g round-trips */
+            assert_true(hr == px[i].hit_r); /* exact: the shortest form reads back */
             assert_true(hp == px[i].hit_phi);
         } else {
             assert_true(hr == -1.0 && hp == -1.0);
@@ -740,7 +740,7 @@ static void test_csv_roundtrip(void **state)
         if (i == 5 || i == 6 || px[i].outcome == CR_OUT_ERROR || px[i].outcome == CR_OUT_LIMIT)
             assert_true(z == -1.0);
         else
-            assert_true(z == px[i].redshift); /* exact: %.17g round-trips */
+            assert_true(z == px[i].redshift); /* exact: the shortest form reads back */
         assert_true(em == px[i].err_mean);
         assert_true(es == px[i].err_std);
         assert_string_equal(name, cr_outcome_name(px[i].outcome));
@@ -749,6 +749,39 @@ static void test_csv_roundtrip(void **state)
     fclose(fp);
     assert_int_equal(count_entries(f->dir, &temps), 1);
     assert_int_equal(temps, 0);
+}
+
+/* The CSV's numbers in their shortest form that reads back exactly: 0.1,
+ * not %.17g's 0.10000000000000001 (shortest.h). */
+static void test_csv_shortest(void **state)
+{
+    fixture *f = *state;
+    cr_pixel px[2];
+    char path[4096], *t;
+    cr_err err;
+    memset(px, 0, sizeof px);
+    px[0].outcome = CR_OUT_DISC;
+    px[0].redshift = 0.1;
+    px[0].err_mean = 1e-5;
+    px[0].err_std = 2.0 / 3.0;
+    px[0].hit_r = 6.02214076e23;
+    px[0].hit_phi = 5e-324;
+    px[0].bolo = 0.3;
+    px[0].steps = 17;
+    px[1].outcome = CR_OUT_SKY;
+    px[1].redshift = -0.0;
+    px[1].err_mean = 123456789012345678.0;
+    px[1].err_std = 1e16;
+    assert_int_equal(cr_output_csv(f->dir, 0, px, 2, 1, &err), 0);
+    join(path, f, "d_0.csv");
+    t = read_all(path, NULL);
+    assert_string_equal(t, "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,"
+                           "bolometric\n"
+                           "0,0,0,0,0,17,0.1,1e-05,0.6666666666666666,disc,6.02214076e+23,"
+                           "5e-324,0.3\n"
+                           "1,0,0,0,0,0,-0,1.2345678901234568e+17,10000000000000000,sky,-1,-1,"
+                           "-1\n");
+    free(t);
 }
 
 /* The w x h PNG name in the fixture's folder holds colour(px[i]) at pixel i
@@ -1738,6 +1771,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_info, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_keplerian, setup, teardown),
         cmocka_unit_test_setup_teardown(test_output_types, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_csv_shortest, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_at_infinity, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_appends, setup, teardown),
         cmocka_unit_test_setup_teardown(test_info_append_fails, setup, teardown),

@@ -11,6 +11,7 @@
 #include "../base/fsutil.h"
 #include "info.h"
 #include "../base/png_io.h"
+#include "../base/shortest.h"
 
 /* stdio buffer for the large outputs (CSV): 1 MiB keeps write() calls few. */
 #define CR_OUT_BUFSIZE (1u << 20)
@@ -177,10 +178,10 @@ static char *cr_put_uint(char *p, unsigned long v)
     return p;
 }
 
-/* "%.17g": enough digits that strtod/sscanf gives back the same double. */
+/* The shortest text that strtod reads back as v (shortest.h). */
 static char *cr_put_double(char *p, double v)
 {
-    /* fast paths, same text as %.17g: the "undefined" marker and zero */
+    /* fast paths, same text: the "undefined" marker and zero */
     if (v == -1.0) {
         memcpy(p, "-1", 2);
         return p + 2;
@@ -189,7 +190,7 @@ static char *cr_put_double(char *p, double v)
         *p = '0';
         return p + 1;
     }
-    return p + snprintf(p, 32, "%.17g", v);
+    return p + cr_shortest_double(p, v);
 }
 
 static const char *const cr_csv_header = "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric\n";

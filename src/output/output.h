@@ -55,7 +55,8 @@ int cr_output_bolometric_png(const char *dir, int k, const cr_pixel *px, int w, 
  * (x, y pixel coordinates from the top-left; redshift -1 where undefined;
  * outcome as the word horizon/disc/sphere/sky/error/limit/outside; hit_r, hit_phi
  * the disc or sphere hit point, -1 otherwise; bolometric g^4 F / F_max on a
- * Keplerian disc hit, -1 otherwise). */
+ * Keplerian disc hit, -1 otherwise). Every number is the shortest text that
+ * reads back as the same double (cr_shortest_double, base/shortest.h). */
 int cr_output_csv(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err);
 /* The same CSV text written to an open stream, then flushed and checked
  * (cr_stream_check); name is used in the error message. */
