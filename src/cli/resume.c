@@ -195,12 +195,11 @@ int cr_run_hash(const cr_scene *scene, const cr_sysconfig *cfg, long width, long
 {
     uint64_t h = 0xcbf29ce484222325ULL;
     char text[1024], settings[512], set[32] = "";
-    const char *all = "icrdbfv";
     size_t n = 0;
-    /* the set of output types, in a fixed order */
-    for (const char *p = all; *p; p++)
-        if (strchr(types, *p) && n + 1 < sizeof set)
-            set[n++] = *p;
+    /* the set of output types, in the table's order (types.h) */
+    for (int i = 0; i < cr_output_type_count(); i++)
+        if (strchr(types, cr_output_type_at(i)->letter) && n + 1 < sizeof set)
+            set[n++] = cr_output_type_at(i)->letter;
     set[n] = '\0';
     if (scene->path && cr_fnv_file(&h, scene->path, err))
         return -1;
