@@ -251,6 +251,19 @@ static char *cr_read_text(const char *path)
 
 /* A frame record's first line "Frame <k>\n" at p: k (0 <= k < frames), or
  * -1. Reads only that line: the scan of info.txt stays linear in its size. */
+/* The newline before the first line at or after p (below end) that starts
+ * with prefix, or NULL. Bounded by end, never by the string's length: strstr
+ * and strchr would measure the rest of the file at each call (a sanitizer's
+ * interceptors do), which makes a scan of many records quadratic. */
+static char *cr_find_line(char *p, const char *end, const char *prefix)
+{
+    size_t n = strlen(prefix);
+    for (char *nl; (nl = memchr(p, '\n', (size_t)(end - p))) != NULL; p = nl + 1)
+        if ((size_t)(end - nl - 1) >= n && memcmp(nl + 1, prefix, n) == 0)
+            return nl;
+    return NULL;
+}
+
 static int cr_record_frame(const char *p, int frames)
 {
     long k = 0;
@@ -280,7 +293,7 @@ int cr_info_path_check(const char *dir, cr_err *err)
 int cr_resume_load(cr_resume *r, const char *dir, const char *hash, int frames, cr_err *err)
 {
     char path[4096], *text, *p, *line;
-    const char *key = "\n  run hash ";
+    const char *end, *key = "\n  run hash ";
     memset(r, 0, sizeof *r);
     r->frames = frames;
     if (cr_path_join(path, sizeof path, dir, "info.txt") != 0)
@@ -329,15 +342,16 @@ int cr_resume_load(cr_resume *r, const char *dir, const char *hash, int frames, 
     }
     /* records: "Frame <k>\n" ... up to the line "Finished ..."; every step
      * moves forward, each byte is looked at a bounded number of times */
+    end = text + strlen(text);
     for (line = text; line && *line;) {
         int k = cr_record_frame(line, frames);
         char *fin, *nl;
         if (k < 0) {
-            nl = strchr(line, '\n');
+            nl = memchr(line, '\n', (size_t)(end - line));
             line = nl ? nl + 1 : NULL;
             continue;
         }
-        fin = strstr(line, "\nFinished ");
+        fin = cr_find_line(line, end, "Finished ");
         if (!fin)
             break; /* cannot happen with whole records; take nothing more */
         if (!r->body[k]) {
