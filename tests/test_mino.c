@@ -30,7 +30,7 @@
  *    and to 1e-9 at tol 1e-10 (observer at infinity at inclinations 0, 40,
  *    80 deg, and a static observer at r = 1e4 M at 60 deg). The crossing is
  *    located with the trace loop's own functions (cr_ray_advance,
- *    cr_event_locate on the dense output); cr_trace_loop itself must hit a
+ *    cr_ray_event_locate on the dense output); cr_trace_loop itself must hit a
  *    disc annulus r_pred (1 +- 1e-6) on the right face and miss the annuli
  *    just inside and outside it.
  * 4. The observer at infinity: for a = 0 the shadow is a circle (edge radii
@@ -226,11 +226,11 @@ static void walk_ray(const cr_frame *f, cr_ray *ray, walk *wk)
             break;
         }
         wk->steps++;
-        v0 = cr_event_value(f, ray, CR_EV_DISC, ray->m);
-        v1 = cr_event_value(f, ray, CR_EV_DISC, ray->m1);
+        v0 = cr_ray_event_value(f, ray, CR_EV_DISC, ray->m);
+        v1 = cr_ray_event_value(f, ray, CR_EV_DISC, ray->m1);
         if (v0 != 0.0 && (v0 < 0.0) != (v1 < 0.0) && wk->n_cross < 4) {
             double ys[CR_RAY_NY], r, th, ph;
-            cr_event_locate(f, ray, CR_EV_DISC, v0, 1.0, v1, ys);
+            cr_ray_event_locate(f, ray, CR_EV_DISC, v0, 1.0, v1, ys);
             cr_ray_position(ray, ys, &r, &th, &ph);
             wk->r_cross[wk->n_cross] = r;
             wk->side[wk->n_cross] = v0 < 0.0 ? 0 : 1;

@@ -310,4 +310,58 @@ CR_HD static inline int cr_golden_shrink(cr_golden *g)
     return 2;
 }
 
+/* Root of a function of the step fraction s on [0, s_hi] whose values v0 at
+ * s = 0 and v1 at s_hi have opposite signs, by the Illinois variant of
+ * regula falsi, written once for every event located inside a step (the
+ * disc plane and the sky radius in ray.h, the spheres in sphere.h). The
+ * caller evaluates the function, as for cr_golden: cr_falsi_start, then
+ * while cr_falsi_next gives a new point z.s, evaluate the function there and
+ * pass the value to cr_falsi_update, which returns 0 once the root is found
+ * (value 0 or below 1e-13 in magnitude, or a bracket narrower than 1e-12).
+ * At most 60 points; z.s is the last one. */
+typedef struct cr_falsi {
+    double s_lo, s_hi, v0, v1, s;
+    int side, it;
+} cr_falsi;
+
+CR_HD static inline void cr_falsi_start(cr_falsi *z, double v0, double s_hi, double v1)
+{
+    z->s_lo = 0.0;
+    z->s_hi = s_hi;
+    z->v0 = v0;
+    z->v1 = v1;
+    z->s = s_hi;
+    z->side = 0;
+    z->it = 0;
+}
+
+CR_HD static inline int cr_falsi_next(cr_falsi *z)
+{
+    if (z->it >= 60)
+        return 0;
+    z->it++;
+    z->s = (z->s_lo * z->v1 - z->s_hi * z->v0) / (z->v1 - z->v0);
+    return 1;
+}
+
+CR_HD static inline int cr_falsi_update(cr_falsi *z, double v)
+{
+    if (v == 0.0 || z->s_hi - z->s_lo < 1e-12)
+        return 0;
+    if ((v < 0.0) == (z->v1 < 0.0)) {
+        z->s_hi = z->s;
+        z->v1 = v;
+        if (z->side == -1)
+            z->v0 *= 0.5;
+        z->side = -1;
+    } else {
+        z->s_lo = z->s;
+        z->v0 = v;
+        if (z->side == 1)
+            z->v1 *= 0.5;
+        z->side = 1;
+    }
+    return !(fabs(v) < 1e-13);
+}
+
 #endif

@@ -1,6 +1,7 @@
 /* curray core: the thin accretion disc in the plane theta = pi/2 (cr_disc,
- * defs.h): the paper's chessboard, and the Keplerian disc's per-frame data,
- * matter velocity, frequency ratio and blackbody colour.
+ * defs.h): the paper's chessboard, the Keplerian disc's per-frame data,
+ * matter velocity, frequency ratio and blackbody colour, the disc's event
+ * inside a step and the shading of a hit.
  */
 #ifndef CR_CORE_DISC_H
 #define CR_CORE_DISC_H
@@ -8,6 +9,7 @@
 #include "colour.h"
 #include "orbit.h"
 #include "pattern.h"
+#include "ray.h"
 #include "shift.h"
 
 /* Colour of the disc at BL radius r, azimuth ph, on the top (side 0) or
@@ -118,6 +120,54 @@ CR_HD static inline cr_rgb cr_disc_keplerian_color(const cr_disc *d, double r, d
     g = g > 0.0 ? g : 0.0;
     *bolo = cr_bolometric(g, F / d->flux.F_max);
     return cr_bb_rgb8(T, g, d->exposure, d->white);
+}
+
+/* The disc's event of the current step: where the step crosses the plane
+ * theta = pi/2 (cr_ray_event_locate), counted when the crossing lies between
+ * r_hit_in and r_out at a radius the ray reaches (cr_ray_outside_stop).
+ * Returns 1 with h set on a hit (index: the face the ray comes from, 0 top,
+ * 1 bottom), else 0. */
+CR_HD static inline int cr_disc_event(const cr_frame *f, const cr_ray *ray, cr_hit *h)
+{
+    double v0, v1, s, rr, th, ph;
+    if (!f->disc.enabled)
+        return 0;
+    v0 = cr_ray_event_value(f, ray, CR_EV_DISC, cr_ray_y0(ray));
+    v1 = cr_ray_event_value(f, ray, CR_EV_DISC, cr_ray_y1(ray));
+    if (v0 == 0.0 || (v0 < 0.0) == (v1 < 0.0))
+        return 0;
+    s = cr_ray_event_locate(f, ray, CR_EV_DISC, v0, 1.0, v1, h->y);
+    cr_ray_position(ray, h->y, &rr, &th, &ph);
+    if (rr >= f->disc.r_hit_in && rr <= f->disc.r_out && cr_ray_outside_stop(f, ray, rr)) {
+        h->s = s;
+        h->index = v0 < 0.0 ? 0 : 1;
+        return 1;
+    }
+    return 0;
+}
+
+/* Shade a disc hit h: outcome, face, hit radius and azimuth, and the colour
+ * and frequency ratio of the disc's model there: the Keplerian disc's
+ * matter (and its bolometric brightness), or the chessboard seen as a
+ * static source (6.9). */
+CR_HD static inline void cr_disc_shade(const cr_frame *f, const cr_ray *ray, const cr_hit *h,
+                                       cr_pixel *px)
+{
+    double rr, th, ph, p[4];
+    int side = h->index;
+    cr_ray_position(ray, h->y, &rr, &th, &ph);
+    px->outcome = CR_OUT_DISC;
+    px->object = (int16_t)side;
+    px->hit_r = rr;
+    px->hit_phi = cr_wrap_2pi(ph);
+    cr_ray_momentum(ray, h->y, p);
+    if (f->disc.model == CR_DISC_KEPLERIAN) {
+        px->redshift = cr_disc_keplerian_g(f, ray->p_obs, p, rr);
+        px->color = cr_disc_keplerian_color(&f->disc, rr, px->redshift, &px->bolo);
+    } else {
+        px->color = cr_disc_color(&f->disc, rr, ph, side);
+        px->redshift = cr_redshift_static(f, ray->p_obs, p, rr, 0.5 * CR_PI);
+    }
 }
 
 #endif

@@ -14,6 +14,7 @@
 #ifndef CR_CORE_GEODESIC_H
 #define CR_CORE_GEODESIC_H
 
+#include "coords.h"
 #include "metric.h"
 
 enum { CR_Y_T = 0, CR_Y_R, CR_Y_TH, CR_Y_PH, CR_Y_UR, CR_Y_UTH, CR_NY };
@@ -215,6 +216,21 @@ CR_HD static inline int cr_geo_through_axis(double *y)
         y[CR_Y_TH] = th;
     }
     return 1;
+}
+
+/* Sky direction (6.10.3)/(6.10.4) of an escaping ray: polar angle and
+ * azimuth in [0, 2pi) of its Cartesian direction of motion. With backward
+ * tracing this is the direction of the source on the sky. */
+CR_HD static inline void cr_sky_direction(double a, const double *y, double uph,
+                                          double *sky_th, double *sky_ph)
+{
+    double v[3], len;
+    cr_bl_vel_to_cart(a, y[CR_Y_R], y[CR_Y_TH], y[CR_Y_PH], y[CR_Y_UR], y[CR_Y_UTH], uph, v);
+    len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    *sky_th = acos(fmax(-1.0, fmin(1.0, v[2] / len)));
+    *sky_ph = atan2(v[1], v[0]);
+    if (*sky_ph < 0.0)
+        *sky_ph += CR_TWO_PI;
 }
 
 #endif

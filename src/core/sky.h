@@ -1,27 +1,13 @@
-/* curray core: the sky (cr_sky, defs.h): the direction an escaping ray
- * leaves in and the equirectangular texture sampled there (6.10).
+/* curray core: the sky (cr_sky, defs.h): its equirectangular texture
+ * (6.10) and the shading of a ray that escapes (its event is an end of the
+ * ray, ray.h: cr_ray_escaping, cr_ray_misses_scene).
  */
 #ifndef CR_CORE_SKY_H
 #define CR_CORE_SKY_H
 
-#include "coords.h"
-#include "geodesic.h"
 #include "pattern.h"
-
-/* Sky direction (6.10.3)/(6.10.4) of an escaping ray: polar angle and
- * azimuth in [0, 2pi) of its Cartesian direction of motion. With backward
- * tracing this is the direction of the source on the sky. */
-CR_HD static inline void cr_sky_direction(double a, const double *y, double uph,
-                                          double *sky_th, double *sky_ph)
-{
-    double v[3], len;
-    cr_bl_vel_to_cart(a, y[CR_Y_R], y[CR_Y_TH], y[CR_Y_PH], y[CR_Y_UR], y[CR_Y_UTH], uph, v);
-    len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    *sky_th = acos(fmax(-1.0, fmin(1.0, v[2] / len)));
-    *sky_ph = atan2(v[1], v[0]);
-    if (*sky_ph < 0.0)
-        *sky_ph += CR_TWO_PI;
-}
+#include "ray.h"
+#include "shift.h"
 
 /* Bilinear sample of the equirectangular sky at (theta, phi) by (6.10.1):
  * image y = theta h / pi, x = (2pi - phi) b / (2pi), pixel centres at +1/2,
@@ -56,6 +42,27 @@ CR_HD static inline cr_rgb cr_sky_sample(const cr_sky *sky, double th, double ph
         c[k] = (1.0 - ty) * ((1.0 - tx) * p00[k] + tx * p01[k]) +
                ty * ((1.0 - tx) * p10[k] + tx * p11[k]);
     return cr_rgb_make((int)(c[0] + 0.5), (int)(c[1] + 0.5), (int)(c[2] + 0.5));
+}
+
+/* Shade a ray that escapes, at its current state (after cr_ray_begin):
+ * outcome sky, the texture in its sky direction (cr_ray_sky_direction) or
+ * the plain sky colour, and the frequency ratio of a static source at
+ * infinity, u_em = (1, 0, 0, 0) (for the static observer omega_r/omega_s =
+ * 1/sqrt(-g_tt)|obs). */
+CR_HD static inline void cr_sky_shade(const cr_frame *f, const cr_ray *ray, cr_pixel *px)
+{
+    const double *y = cr_ray_y0(ray);
+    double p[4], u_inf[4] = {1.0, 0.0, 0.0, 0.0};
+    px->outcome = CR_OUT_SKY;
+    if (f->sky.rgb) {
+        double sth, sph;
+        cr_ray_sky_direction(f, ray, y, &sth, &sph);
+        px->color = cr_sky_sample(&f->sky, sth, sph);
+    } else {
+        px->color = f->sky_color;
+    }
+    cr_ray_momentum(ray, y, p);
+    px->redshift = cr_frame_shift(f, ray->p_obs, p, u_inf);
 }
 
 #endif

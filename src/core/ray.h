@@ -1,0 +1,434 @@
+/* curray core: THE integrator interface. One ray under either integrator
+ * of the frame (raytracer.integrator), and the only place that asks which:
+ *   CR_INTEG_RK4: the paper's BL state (geodesic.h), h by (6.6.1), one RK4
+ *     step in the affine parameter, a non-finite result retried smaller,
+ *     then an error; continued through the polar axis;
+ *   CR_INTEG_MINO: the Mino state (mino.h), one accepted Dormand-Prince 5(4)
+ *     step in Mino time, repeated smaller while its error estimate exceeds
+ *     the tolerance; the state passes the polar axis smoothly.
+ * The trace loop (trace.h) sees only these functions:
+ *   start    cr_ray_from_bl, cr_ray_mino_start (the observer at infinity)
+ *   step     cr_ray_advance: the current state to the step's end y1
+ *   state    cr_ray_state_at: the state at any fraction s of the step
+ *            (partial RK4 steps from its start, or the DP5 dense output),
+ *            where the objects' events are located (disc.h, sphere.h);
+ *            cr_ray_y0, cr_ray_y1, cr_ray_step_length
+ *   point    cr_ray_cart, cr_ray_position, cr_ray_momentum, cr_ray_point,
+ *            cr_ray_sky_direction of a state
+ *   monitor  cr_ray_begin: derivatives at the current state and the error
+ *            monitor there: the null error (6.7.1) under RK4, the
+ *            first-integral residual of mino.h under Mino
+ *   commit   cr_ray_commit: move to the step's end (no hit inside it)
+ *   ends     (6.8) cr_ray_at_horizon, cr_ray_escaping, cr_ray_misses_scene,
+ *            cr_ray_outside_stop, cr_ray_beyond_stop
+ * and the coordinate events of the chart (cr_ray_event_value,
+ * cr_ray_event_locate): the disc plane theta = pi/2 and, under Mino, the sky
+ * radius, whose crossing cr_ray_commit locates.
+ */
+#ifndef CR_CORE_RAY_H
+#define CR_CORE_RAY_H
+
+#include "coords.h"
+#include "mino.h"
+
+/* Largest state of either integrator. */
+#define CR_RAY_NY ((int)CR_MN > (int)CR_NY ? (int)CR_MN : (int)CR_NY)
+
+/* One ray under either integrator: its constants, its state, and the step
+ * from that state (to y1 / m1) while events are looked for inside it. */
+typedef struct cr_ray {
+    int kind; /* cr_integrator */
+    /* CR_INTEG_RK4 */
+    cr_geo g;
+    double y[CR_NY], y1[CR_NY], k1[CR_NY], u[4];
+    double h; /* the current step */
+    /* CR_INTEG_MINO */
+    cr_mino c;
+    double m[CR_MN], m1[CR_MN];
+    cr_dp5 st;     /* stages; st.k[0] = f(m) */
+    double hm;     /* the current step */
+    double h_next; /* the next trial step */
+    /* Path recorder (cr_path, path.h): NULL except when one ray's path is
+     * wanted (--trace, curray.trace); set by the ray's maker to NULL. */
+    struct cr_path *path;
+    /* Covariant momentum at the observer (cr_ray_momentum of the first
+     * state), the observer's side of every frequency ratio (cr_frame_shift);
+     * set by cr_ray_mino_start and cr_ray_from_bl. */
+    double p_obs[4];
+} cr_ray;
+
+/* The ray's current state (the start of the current step) and the end of
+ * the current step (set by cr_ray_advance), in the integrator's layout. */
+CR_HD static inline const double *cr_ray_y0(const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO ? ray->m : ray->y;
+}
+
+CR_HD static inline const double *cr_ray_y1(const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO ? ray->m1 : ray->y1;
+}
+
+/* Length of the current step in the integrator's parameter: the affine
+ * parameter of the backward tangent under RK4, Mino time under Mino. */
+CR_HD static inline double cr_ray_step_length(const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO ? ray->hm : ray->h;
+}
+
+/* Whether the state carries BL time t (RK4 integrates it; Mino does not: it
+ * diverges at w = 0). */
+CR_HD static inline int cr_ray_has_t(const cr_ray *ray)
+{
+    return ray->kind != CR_INTEG_MINO;
+}
+
+/* Whether one step may cross much of the scene, its fraction not
+ * proportional to the distance along its chord (Mino); RK4 steps are short
+ * and nearly straight. */
+CR_HD static inline int cr_ray_long_steps(const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO;
+}
+
+/* The state at fraction s in [0, 1] of the current step. */
+CR_HD static inline void cr_ray_state_at(const cr_ray *ray, double s, double *ys)
+{
+    if (ray->kind == CR_INTEG_MINO)
+        cr_dp5_dense(&ray->st, ray->m, ray->m1, ray->hm, s, ys);
+    else
+        cr_geo_rk4(&ray->g, ray->y, ray->k1, s * ray->h, ys);
+}
+
+/* Cartesian position (2.2.8) of a state of the ray's integrator. */
+CR_HD static inline void cr_ray_cart(const cr_frame *f, const cr_ray *ray, const double *y,
+                                     double x[3])
+{
+    if (ray->kind == CR_INTEG_MINO)
+        cr_mino_cart(f->metric.a, y, x);
+    else
+        cr_bl_to_cart(f->metric.a, y[CR_Y_R], y[CR_Y_TH], y[CR_Y_PH], x);
+}
+
+/* BL r, theta, phi of a state of the ray's integrator. */
+CR_HD static inline void cr_ray_position(const cr_ray *ray, const double *y, double *r,
+                                         double *th, double *ph)
+{
+    if (ray->kind == CR_INTEG_MINO) {
+        double c, s;
+        cr_mino_position(y, r, &c, &s, ph);
+        *th = atan2(s, c);
+    } else {
+        *r = y[CR_Y_R];
+        *th = y[CR_Y_TH];
+        *ph = y[CR_Y_PH];
+    }
+}
+
+/* Covariant momentum p_mu of the ray (its backward tangent -k, geodesic.h
+ * convention: p_t = E, p_phi = L) at a state y of the ray's integrator. RK4:
+ * p_r = g_rr u^r, p_theta = g_thth u^theta. Mino: dr/dtau = Sigma dr/dlambda
+ * gives p_r = (dr/dtau) / Delta = -(dw/dtau) / D(w) (D = Delta / r^2), and
+ * p_theta = dtheta/dtau = -(dn_z/dtau) / sin(theta) (0 on the axis). */
+CR_HD static inline void cr_ray_momentum(const cr_ray *ray, const double *y, double p[4])
+{
+    if (ray->kind == CR_INTEG_MINO) {
+        double w = y[CR_M_W], st = sqrt(y[CR_M_NX] * y[CR_M_NX] + y[CR_M_NY] * y[CR_M_NY]);
+        p[0] = ray->c.E;
+        p[1] = -y[CR_M_DW] / (1.0 + w * (ray->c.d1 + w * ray->c.d2));
+        p[2] = st > 0.0 ? -y[CR_M_DNZ] / st : 0.0;
+        p[3] = ray->c.L;
+    } else {
+        cr_metric_point q;
+        cr_metric_eval(&ray->g.mt, y[CR_Y_R], y[CR_Y_TH], &q);
+        p[0] = ray->g.E;
+        p[1] = q.g_rr * y[CR_Y_UR];
+        p[2] = q.g_thth * y[CR_Y_UTH];
+        p[3] = ray->g.L;
+    }
+}
+
+/* Sky direction (6.10.3)/(6.10.4) of state y (the current state, after
+ * cr_ray_begin): polar angle and azimuth in [0, 2pi) of the ray's Cartesian
+ * direction of motion, the direction of the source on the sky. */
+CR_HD static inline void cr_ray_sky_direction(const cr_frame *f, const cr_ray *ray,
+                                              const double *y, double *sky_th, double *sky_ph)
+{
+    if (ray->kind == CR_INTEG_MINO)
+        cr_mino_sky_direction(&ray->c, y, sky_th, sky_ph);
+    else
+        cr_sky_direction(f->metric.a, y, ray->u[3], sky_th, sky_ph);
+}
+
+/* Layout of a point of the ray (cr_ray_point; the path recorder's columns
+ * after its parameter, path.h): BL time, BL position, Cartesian position
+ * (2.2.8), u^mu = dx^mu/dlambda of the backward tangent (affine lambda). */
+enum {
+    CR_RP_T = 0,
+    CR_RP_R,
+    CR_RP_TH,
+    CR_RP_PH,
+    CR_RP_X,
+    CR_RP_Y,
+    CR_RP_Z,
+    CR_RP_UT,
+    CR_RP_UR,
+    CR_RP_UTH,
+    CR_RP_UPH,
+    CR_RPN
+};
+
+/* The point of state y of the ray's integrator (the CR_RP_* layout above)
+ * into p: t under rk4 only (cr_ray_has_t), position, u^mu; returns
+ * dt/dparameter there (u^t under rk4, Sigma u^t under mino), or NaN at w = 0
+ * (mino at infinity: no finite point). */
+CR_HD static inline double cr_ray_point(const cr_frame *f, const cr_ray *ray, const double *y,
+                                        double *p)
+{
+    cr_metric_point q;
+    double u[4], a = f->metric.a;
+    if (ray->kind == CR_INTEG_MINO) {
+        double r, c, s, ph, w = y[CR_M_W], psi, dth, sig;
+        cr_geo g;
+        if (!(w > 0.0))
+            return NAN;
+        cr_mino_position(y, &r, &c, &s, &ph);
+        psi = atan2(y[CR_M_NY], y[CR_M_NX]);
+        /* dtheta/dtau = dn/dtau . e_theta for the unit vector n */
+        dth = (y[CR_M_DNX] * c * cos(psi) + y[CR_M_DNY] * c * sin(psi) - y[CR_M_DNZ] * s) /
+              sqrt(y[CR_M_NX] * y[CR_M_NX] + y[CR_M_NY] * y[CR_M_NY] + y[CR_M_NZ] * y[CR_M_NZ]);
+        sig = r * r + a * a * c * c;
+        p[CR_RP_R] = r;
+        p[CR_RP_TH] = atan2(s, c);
+        p[CR_RP_PH] = ph;
+        cr_mino_cart(a, y, p + CR_RP_X);
+        g.mt = f->metric;
+        g.E = ray->c.E;
+        g.L = ray->c.L;
+        g.th_floor = 0.0;
+        {
+            double yb[CR_NY];
+            yb[CR_Y_UR] = -y[CR_M_DW] / (w * w * sig);
+            yb[CR_Y_UTH] = dth / sig;
+            cr_metric_eval(&f->metric, r, p[CR_RP_TH], &q);
+            cr_geo_velocity(&g, yb, &q, u);
+        }
+        p[CR_RP_UT] = u[0];
+        p[CR_RP_UR] = u[1];
+        p[CR_RP_UTH] = u[2];
+        p[CR_RP_UPH] = u[3];
+        return sig * u[0];
+    } else {
+        double yb[CR_NY], dy[CR_NY];
+        int i;
+        for (i = 0; i < CR_NY; i++)
+            yb[i] = y[i];
+        cr_geo_through_axis(yb);
+        cr_geo_rhs_full(&ray->g, yb, dy, u, &q);
+        p[CR_RP_T] = yb[CR_Y_T];
+        p[CR_RP_R] = yb[CR_Y_R];
+        p[CR_RP_TH] = yb[CR_Y_TH];
+        p[CR_RP_PH] = yb[CR_Y_PH];
+        cr_bl_to_cart(a, yb[CR_Y_R], yb[CR_Y_TH], yb[CR_Y_PH], p + CR_RP_X);
+        for (i = 0; i < 4; i++)
+            p[CR_RP_UT + i] = u[i];
+        return u[0];
+    }
+}
+
+/* Coordinate events located inside a step: the disc plane (for disc.h),
+ * the sky radius (Mino only, for cr_ray_commit). */
+enum { CR_EV_DISC = -1, CR_EV_SKY = -2 };
+
+/* Value of coordinate event ev at state y of the ray's integrator. The disc
+ * plane's is theta - pi/2 under RK4 and -cos(theta) (same sign) under Mino;
+ * the sky radius's (Mino only) w - w_sky. */
+CR_HD static inline double cr_ray_event_value(const cr_frame *f, const cr_ray *ray, int ev,
+                                              const double *y)
+{
+    if (ev == CR_EV_DISC)
+        return ray->kind == CR_INTEG_MINO ? -y[CR_M_NZ] : y[CR_Y_TH] - 0.5 * CR_PI;
+    return y[CR_M_W] - f->w_sky;
+}
+
+/* Locate the root of coordinate event ev inside the current step, where the
+ * value is v0 at its start and v1 of opposite sign at fraction s_hi,
+ * 0 < s_hi <= 1, by regula falsi (cr_falsi) on cr_ray_state_at. Returns the
+ * fraction s and the state there in ys. */
+CR_HD static inline double cr_ray_event_locate(const cr_frame *f, const cr_ray *ray, int ev,
+                                               double v0, double s_hi, double v1, double *ys)
+{
+    cr_falsi z;
+    cr_falsi_start(&z, v0, s_hi, v1);
+    while (cr_falsi_next(&z)) {
+        cr_ray_state_at(ray, z.s, ys);
+        if (!cr_falsi_update(&z, cr_ray_event_value(f, ray, ev, ys)))
+            break;
+    }
+    return z.s;
+}
+
+/* Start a Mino ray from a BL state (RK4 layout) and constants. */
+CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
+{
+    ray->kind = CR_INTEG_MINO;
+    ray->path = 0;
+    if (fabs(ray->m[CR_M_NZ]) < 1e-15) /* cos(pi/2) rounded: on the disc plane */
+        ray->m[CR_M_NZ] = 0.0;
+    cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
+    ray->h_next = cr_mino_first_step(&ray->c, f->tolerance);
+    cr_ray_momentum(ray, ray->m, ray->p_obs);
+}
+
+/* The ray of the frame's integrator from the BL state y and constants g made
+ * by cr_camera_ray. */
+CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, const double *y,
+                                        cr_ray *ray)
+{
+    int i;
+    ray->path = 0;
+    ray->g = *g;
+    for (i = 0; i < CR_NY; i++)
+        ray->y[i] = y[i];
+    if (f->integrator == CR_INTEG_MINO) {
+        cr_mino_from_bl(g, y, f->w_stop, &ray->c, ray->m);
+        cr_ray_mino_start(f, ray);
+    } else {
+        ray->kind = CR_INTEG_RK4;
+        cr_ray_momentum(ray, ray->y, ray->p_obs);
+    }
+}
+
+/* Derivatives at the current state, and the error monitor there (negative
+ * where it is undefined). */
+CR_HD static inline double cr_ray_begin(cr_ray *ray)
+{
+    cr_metric_point p;
+    if (ray->kind == CR_INTEG_MINO)
+        return cr_mino_monitor(&ray->c, ray->m);
+    cr_geo_rhs_full(&ray->g, ray->y, ray->k1, ray->u, &p);
+    return cr_geo_null_error(&p, ray->u);
+}
+
+CR_HD static inline int cr_ray_at_horizon(const cr_frame *f, const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO ? ray->m[CR_M_W] >= f->w_stop
+                                      : ray->y[CR_Y_R] <= f->r_stop;
+}
+
+/* How far state y of the ray's integrator lies beyond the horizon stop
+ * r+ + epsilon (> 0 beyond it). */
+CR_HD static inline double cr_ray_beyond_stop(const cr_frame *f, const cr_ray *ray,
+                                              const double *y)
+{
+    return ray->kind == CR_INTEG_MINO ? y[CR_M_W] - f->w_stop : f->r_stop - y[CR_Y_R];
+}
+
+/* Whether a hit located at BL radius r counts. A Mino step can carry the
+ * ray past the horizon stop r+ + epsilon, where the ray ends (6.8), so an
+ * event located beyond it is not seen; RK4 keeps the paper's rule (the stop
+ * is checked at step starts only), so its images stay as they were. */
+CR_HD static inline int cr_ray_outside_stop(const cr_frame *f, const cr_ray *ray, double r)
+{
+    return ray->kind != CR_INTEG_MINO || r >= f->r_stop;
+}
+
+CR_HD static inline int cr_ray_escaping(const cr_frame *f, const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO
+               ? ray->m[CR_M_W] <= f->w_sky && ray->m[CR_M_DW] < 0.0
+               : ray->y[CR_Y_R] >= f->r_max && ray->u[1] > 0.0;
+}
+
+/* Whether a Mino ray that comes in from beyond the sky radius never gets
+ * inside it: then R(r) < 0 at r = 1/w_sky, so it turns at a larger radius
+ * and leaves again, and ends as sky by the rule above without meeting
+ * anything. Only taken when the sky is a plain colour (no direction is
+ * needed); the image of an observer at infinity is mostly such rays. */
+CR_HD static inline int cr_ray_misses_scene(const cr_frame *f, const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO && !f->sky.rgb && f->w_sky > 0.0 &&
+           ray->m[CR_M_W] < f->w_sky && ray->m[CR_M_DW] > 0.0 &&
+           cr_mino_W(&ray->c, f->w_sky) < 0.0;
+}
+
+/* One step from the current state to y1 / m1. Returns 0, or -1 when the
+ * integration failed (non-finite state, step size collapsed). */
+CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
+{
+    int tries, i;
+    if (ray->kind == CR_INTEG_MINO) {
+        double h = ray->h_next;
+        for (tries = 0;; tries++) {
+            double err = cr_dp5_try(&ray->c, f->tolerance, h, ray->m, &ray->st, ray->m1);
+            double fac = cr_dp5_factor(err);
+            if (err <= 1.0) {
+                ray->hm = h;
+                ray->h_next = h * (tries > 0 && fac > 1.0 ? 1.0 : fac);
+                return 0;
+            }
+            h *= fac;
+            if (tries == 60 || !(h > 0.0))
+                return -1;
+        }
+    }
+    ray->h = cr_geo_step_size(&ray->g, f->step_multiplier, ray->y[CR_Y_TH], ray->u);
+    for (tries = 0;; tries++) {
+        int ok = 1;
+        cr_geo_rk4(&ray->g, ray->y, ray->k1, ray->h, ray->y1);
+        for (i = 0; i < CR_NY; i++)
+            ok &= cr_isfinite(ray->y1[i]);
+        if (ok && ray->y1[CR_Y_R] > 0.0)
+            break;
+        if (tries == 4)
+            return -1;
+        ray->h *= 0.125;
+    }
+    return cr_isfinite(ray->h) ? 0 : -1;
+}
+
+/* Move the ray to the end of the current step (no hit inside it): under
+ * RK4 through the polar axis, under Mino cut at the sky radius when the step
+ * crosses it. Adds the turns made around the axis to *turns. */
+CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *turns)
+{
+    int i;
+    if (ray->kind == CR_INTEG_MINO) {
+        double d0 = ray->m1[CR_M_NX] - ray->m[CR_M_NX], d1 = ray->m1[CR_M_NY] - ray->m[CR_M_NY],
+               d2 = ray->m1[CR_M_NZ] - ray->m[CR_M_NZ];
+        *turns += sqrt(d0 * d0 + d1 * d1 + d2 * d2) / CR_TWO_PI;
+        if (ray->m1[CR_M_W] < f->w_sky && ray->m1[CR_M_DW] < 0.0 &&
+            ray->m[CR_M_W] > f->w_sky) {
+            double ys[CR_RAY_NY];
+            cr_ray_event_locate(f, ray, CR_EV_SKY, ray->m[CR_M_W] - f->w_sky, 1.0,
+                                ray->m1[CR_M_W] - f->w_sky, ys);
+            for (i = 0; i < CR_MN; i++)
+                ray->m[i] = ys[i];
+            ray->m[CR_M_W] = f->w_sky;
+            if (!(ray->m[CR_M_DW] < 0.0))
+                ray->m[CR_M_DW] = -1e-300;
+            cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
+            return;
+        }
+        for (i = 0; i < CR_MN; i++) {
+            ray->m[i] = ray->m1[i];
+            ray->st.k[0][i] = ray->st.k[6][i];
+        }
+        return;
+    }
+    *turns += fabs(ray->y1[CR_Y_PH] - ray->y[CR_Y_PH]) / CR_TWO_PI;
+    cr_geo_through_axis(ray->y1);
+    for (i = 0; i < CR_NY; i++)
+        ray->y[i] = ray->y1[i];
+}
+
+/* A hit located inside the current step by an object's event (disc.h,
+ * sphere.h): the step fraction s, the state y there, and index: the sphere,
+ * or the disc's face (0 top, 1 bottom). */
+typedef struct cr_hit {
+    double s;
+    double y[CR_RAY_NY];
+    int index;
+} cr_hit;
+
+#endif
