@@ -18,9 +18,8 @@
 # neither library is linked.
 option(CURRAY_WASM "Build the WebAssembly core (web/) when clang's wasm32-wasi target works" ON)
 set(CURRAY_HAVE_WASM OFF)
-set(CURRAY_WASM_HOST_SOURCES src/input/scene.c src/input/names.c src/input/settings.c
-    src/base/error.c src/input/sysconfig.c
-    src/output/output.c)
+set(CURRAY_WASM_HOST_SOURCES src/input/scene_parse.c src/input/scene_eval.c src/input/names.c
+    src/input/settings.c src/base/error.c src/input/sysconfig.c src/output/output.c)
 set(CURRAY_WASM_EXPORTS cr_web_new cr_web_free cr_web_set cr_web_set_word cr_web_sky
     cr_web_clear_spheres cr_web_add_sphere cr_web_frame cr_web_message cr_web_trace
     cr_web_probe cr_web_reproject cr_web_width cr_web_height malloc free)

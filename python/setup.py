@@ -48,7 +48,8 @@ LIB_SOURCES = [
     "base/error.c", "base/fsutil.c", "base/atomic.c", "base/log.c", "base/memcheck.c",
     "base/png_io.c",
     "base/shortest.c",
-    "input/names.c", "input/scene.c", "input/settings.c", "input/yamlutil.c", "input/sysconfig.c",
+    "input/names.c", "input/scene_parse.c", "input/scene_eval.c", "input/settings.c",
+    "input/yamlutil.c", "input/sysconfig.c",
     "output/info.c", "output/raypath.c", "output/output.c",
     "render/cpu.c", "render/backend.c", "render/run.c",
 ]

@@ -778,6 +778,123 @@ static void test_frame_rejects_settings(void **state)
     cr_scene_free(&s);
 }
 
+/* ---- evaluation: the owned sphere array, the Keplerian disc once ----------- */
+
+/* cr_frame_eval_at gives the frame cr_scene_frame gives, with the spheres in
+ * its own array (grown for a scene with more spheres, kept for one with
+ * fewer); a failed evaluation leaves the frame zeroed; free empties it. */
+static void test_frame_eval_owns_spheres(void **state)
+{
+    static const char *two = BASE "sphere: {color: [1, 2, 3], resolution: [2, 2], r: 10, "
+                                  "theta: 90, phi: 0, radius: 1}\n"
+                                  "sphere: {color: [4, 5, 6], resolution: [3, 3], r: 12, "
+                                  "theta: 80, phi: 30, radius: 2}\n";
+    static const char *three = BASE "spheres:\n"
+                                    "  - {color: [1, 2, 3], resolution: [2, 2], r: 10, theta: 90, "
+                                    "phi: 0, radius: 1}\n"
+                                    "  - {color: [1, 2, 3], resolution: [2, 2], r: 11, theta: 90, "
+                                    "phi: 0, radius: 1}\n"
+                                    "  - {color: [1, 2, 3], resolution: [2, 2], r: 12, theta: 90, "
+                                    "phi: 0, radius: 1}\n";
+    cr_scene s2, s3, s0;
+    cr_frame f;
+    cr_sphere buf[2];
+    cr_frame_eval e;
+    cr_err err;
+    (void)state;
+    memset(&e, 0, sizeof e);
+    load_ok(two, &s2);
+    load_ok(three, &s3);
+    load_ok(MIN, &s0);
+    frame_ok(&s2, 0, 1, &f, buf);
+    assert_int_equal(cr_frame_eval_at(&e, &s2, 0, 1, 64, 48, NULL, &err), 0);
+    assert_int_equal(e.frame.n_spheres, 2);
+    assert_ptr_equal(e.frame.spheres, e.spheres);
+    assert_int_equal(e.n_room, 2);
+    assert_memory_equal(e.spheres, buf, sizeof buf);
+    f.spheres = e.frame.spheres; /* the only field that may differ */
+    assert_memory_equal(&f, &e.frame, sizeof f);
+    assert_int_equal(cr_frame_eval_at(&e, &s3, 0, 1, 64, 48, NULL, &err), 0);
+    assert_int_equal(e.frame.n_spheres, 3);
+    assert_int_equal(e.n_room, 3);
+    assert_true(e.frame.spheres[2].r == 12.0 / e.frame.metric.m);
+    assert_int_equal(cr_frame_eval_at(&e, &s0, 0, 1, 64, 48, NULL, &err), 0);
+    assert_int_equal(e.frame.n_spheres, 0);
+    assert_null(e.frame.spheres);
+    assert_int_equal(e.n_room, 3);
+    assert_int_equal(cr_frame_eval_at(&e, &s2, 3, 2, 64, 48, NULL, &err), -1);
+    assert_contains(err.msg, "frame 3 of 2 does not exist");
+    assert_null(e.frame.spheres);
+    assert_int_equal(e.frame.width, 0);
+    cr_frame_eval_free(&e);
+    assert_null(e.spheres);
+    assert_int_equal(e.n_room, 0);
+    cr_frame_eval_free(&e); /* twice is harmless */
+    cr_scene_free(&s2);
+    cr_scene_free(&s3);
+    cr_scene_free(&s0);
+}
+
+/* The frame's Keplerian disc is cr_scene_keplerian's (the derivation
+ * info.txt uses too): the same sense, ISCO, effective inner edge and peak
+ * temperature for the frame's metric and radii; a refused disc still has
+ * its sense and ISCO, and the reason names the key. */
+static void test_keplerian_derived_once(void **state)
+{
+    static const char *const texts[] = {
+        "metric: {m: 2, a: 1.2, q: 0}\n" OBSL "accretion: {model: keplerian, radius: [40]}\n",
+        "metric: {m: 2, a: 1.2, q: 0.3}\n" OBSL
+        "accretion: {model: keplerian, radius: [5, 40], retrograde: true, mass_msun: 10, "
+        "mdot_edd: 0.1}\n",
+        "metric: {m: 1, a: -0.5, q: 0}\n" OBSL
+        "accretion: {model: keplerian, radius: [2, 30], inside_isco: plunging}\n",
+    };
+    (void)state;
+    for (size_t i = 0; i < sizeof texts / sizeof texts[0]; i++) {
+        cr_scene s;
+        cr_frame f;
+        cr_disc d;
+        char why[256];
+        load_ok(texts[i], &s);
+        frame_ok(&s, 0, 1, &f, NULL);
+        memset(&d, 0, sizeof d);
+        d.enabled = 1;
+        d.model = CR_DISC_KEPLERIAN;
+        d.r_in = s.disc_r_in.a / s.m.a;
+        d.r_out = s.disc_r_out.a / s.m.a;
+        assert_int_equal(cr_scene_keplerian(&s, &f.metric, s.m.a, &d, why, sizeof why), 0);
+        assert_int_equal(d.sense, f.disc.sense);
+        assert_true(d.r_isco == f.disc.r_isco);
+        assert_true(fabs(d.r_in - f.disc.r_in) <= 1e-14 * f.disc.r_in);
+        assert_true(d.r_in >= d.r_isco);
+        assert_true(fabs(d.t_peak - f.disc.t_peak) <= 1e-12 * f.disc.t_peak);
+        assert_true(d.t_peak > 0.0);
+        cr_scene_free(&s);
+    }
+    {
+        cr_scene s;
+        cr_frame f;
+        cr_disc d;
+        cr_metric mt;
+        char why[256];
+        cr_err e;
+        load_ok("metric: {m: 1, a: 0, q: 0}\n" OBSL
+                "accretion: {model: keplerian, radius: [5]}\n",
+                &s);
+        assert_int_equal(cr_scene_frame(&s, 0, 1, 8, 8, NULL, &f, NULL, &e), -1);
+        memset(&d, 0, sizeof d);
+        memset(&mt, 0, sizeof mt);
+        mt.m = 1.0;
+        d.r_out = 5.0;
+        assert_int_equal(cr_scene_keplerian(&s, &mt, 1.0, &d, why, sizeof why), -1);
+        assert_true(fabs(d.r_isco - 6.0) < 1e-12);
+        assert_int_equal(d.sense, 1);
+        assert_starts(why, "accretion.radius: the prograde ISCO r_isco = 6 lies at or beyond");
+        assert_string_equal(e.msg + strlen(NAME ": "), why);
+        cr_scene_free(&s);
+    }
+}
+
 /* ---- the observer at infinity ---------------------------------------------- */
 
 #define INF_OBS "observer: {r: inf, theta: 85, phi: 0, hextent: 40}\n"
@@ -1515,6 +1632,8 @@ int main(void)
         cmocka_unit_test(test_frame_bad_index),
         cmocka_unit_test(test_frame_objects_in_horizon_allowed),
         cmocka_unit_test(test_frame_rejects_settings),
+        cmocka_unit_test(test_frame_eval_owns_spheres),
+        cmocka_unit_test(test_keplerian_derived_once),
         cmocka_unit_test(test_observer_at_infinity),
         cmocka_unit_test(test_observer_at_infinity_rejects),
         cmocka_unit_test(test_skymap),

@@ -1,7 +1,8 @@
-/* curray io: scene files (appendix E.4) and their evaluation per frame.
+/* curray input: scene files (appendix E.4) and their evaluation per frame.
  *
- * A cr_scene is the parsed file: every number that may be animated is a
- * cr_anim; cr_scene_frame() turns it into the plain cr_frame of frame k of n
+ * A cr_scene is the parsed file (scene_parse.c): every number that may be
+ * animated is a cr_anim; the evaluation (scene_eval.c), cr_scene_frame() or
+ * cr_frame_eval_at(), turns it into the plain cr_frame of frame k of n
  * (ERRATA "Animation": value = a + (b - a) k / (n - 1); a single frame takes a).
  *
  * Units: lengths in the scene's units of M (geometrized); angles are stored
@@ -129,5 +130,35 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
  * nothing animated (n equal images). Writes up to max_hints messages, in that
  * order, and returns their number (0: nothing to say). */
 int cr_scene_hints(const cr_scene *s, int n, cr_err *hints, int max_hints);
+
+/* An evaluated frame with the sphere array it points into, owned together:
+ * cr_frame_eval_at evaluates frame k of n into e->frame (as cr_scene_frame),
+ * growing e's sphere array when the scene has more spheres than it holds.
+ * e->frame (and every copy of it) stays valid until the next
+ * cr_frame_eval_at or cr_frame_eval_free of e. A zeroed cr_frame_eval is
+ * empty and ready. On failure e->frame is zeroed. */
+typedef struct cr_frame_eval {
+    cr_frame frame;
+    cr_sphere *spheres; /* owned; room for n_room spheres */
+    int n_room;
+} cr_frame_eval;
+
+int cr_frame_eval_at(cr_frame_eval *e, const cr_scene *s, int k, int n, int width, int height,
+                     const cr_trace_settings *ts, cr_err *err);
+void cr_frame_eval_free(cr_frame_eval *e);
+
+/* The Keplerian disc's per-frame data (the scene's accretion model is
+ * keplerian), as cr_scene_frame derives it: given the
+ * metric mt and d->r_in (when the scene gives it), d->r_out in units of M,
+ * sets d's sense, r_isco, t_peak (given, or derived from the mass and
+ * accretion rate), the effective inner edge d->r_in = max(r_in, r_isco)
+ * (the ISCO when the scene leaves r_in out) and the flux table
+ * (cr_disc_keplerian_prepare). m is the scene's M, for radii in the scene's
+ * units in messages. Returns -1 with why[0..n) saying what is impossible
+ * (inner radius inside the horizon, ISCO beyond the outer radius, plunging
+ * matter with r_in outside the ISCO, too extremal a hole); sense and r_isco
+ * are set even then. */
+int cr_scene_keplerian(const cr_scene *s, const cr_metric *mt, double m, cr_disc *d, char *why,
+                       size_t n);
 
 #endif

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/trace.h"
+#include "../core/defs.h"
 #include "../base/atomic.h"
 #include "../base/fsutil.h"
 #include "info.h"

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "../core/trace.h"
+#include "../core/orbit.h" /* cr_orbit_eval */
 #include "../base/atomic.h"
 #include "../base/fsutil.h"
 

@@ -1,0 +1,581 @@
+/* curray input: evaluating a cr_scene for frame k of n (scene.h): every
+ * animated value at that frame, the physical checks of ERRATA item 4 with
+ * messages naming the key (and the frame), lengths in units of M, and
+ * cr_frame_prepare.
+ */
+#include "scene.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/disc.h"   /* cr_disc_keplerian_prepare */
+#include "../core/frame.h"  /* cr_frame_prepare, units of M */
+#include "../core/orbit.h"  /* cr_orbit_*, CR_FLUX_MIN_GAP */
+#include "../core/sphere.h" /* cr_sphere_prepare */
+#include "names.h"
+
+/* Relative slack on a^2 + Q^2 <= M^2, so that the extremal case survives
+ * rounding (0.6^2 + 0.8^2 is 1.0000000000000002 in doubles). */
+#define EXTREMAL_TOL 1e-12
+/* Slack (radians) on the observer's theta in [0, pi]. */
+#define THETA_TOL 1e-9
+
+/* Message "SCENE: frame K of N: ..." (the frame part only when n > 1). */
+static int frame_fail(cr_err *err, const cr_scene *s, int k, int n, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+
+static int frame_fail(cr_err *err, const cr_scene *s, int k, int n, const char *fmt, ...)
+{
+    char what[CR_ERR_MSG];
+    const char *name = s->path ? s->path : "scene";
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    if (n > 1)
+        return cr_err_set(err, "%s: frame %d of %d: %s", name, k, n, what);
+    return cr_err_set(err, "%s: %s", name, what);
+}
+
+#define DEG(x) ((x) * 180.0 / CR_PI)
+
+/* Evaluate v at frame k of n into *out; -1 when that is not finite (start
+ * and end too far apart for doubles). */
+static int eval(cr_anim v, int k, int n, double *out)
+{
+    *out = cr_anim_at(v, k, n);
+    return isfinite(*out) ? 0 : -1;
+}
+
+/* v in buf with the fewest significant digits, 6 (as %g) to 17, that put
+ * the printed number on the same side of limit as v, so that a message
+ * comparing the two never reads "hfov = 360 deg ... at most 360". */
+static const char *num_vs(char buf[32], double v, double limit)
+{
+    int p;
+    for (p = 6; p <= 17; p++) {
+        double back;
+        snprintf(buf, 32, "%.*g", p, v);
+        back = strtod(buf, NULL);
+        if ((back > limit) == (v > limit) && (back < limit) == (v < limit))
+            break;
+    }
+    return buf;
+}
+
+/* The largest field of view of the flat (rectilinear) screen: at 170 deg the
+ * centre tenth of the image already spans only +-30 deg, and towards 180 deg
+ * the whole picture collapses into the centre pixel (hfov: 179 looks empty). */
+#define CR_MAX_FOV_DEG 170.0
+
+static int check_fov(const char *key, double v, const cr_scene *s, int k, int n, cr_err *err)
+{
+    char b[32];
+    if (!(v > 0.0 && v < CR_PI))
+        return frame_fail(err, s, k, n,
+                          "observer.%s = %s deg: a field of view must lie between 0 and 180 deg "
+                          "(both excluded)",
+                          key, num_vs(b, DEG(v), v > 0.0 ? 180.0 : 0.0));
+    if (DEG(v) > CR_MAX_FOV_DEG)
+        return frame_fail(err, s, k, n,
+                          "observer.%s = %s deg: the flat screen cannot show more than %g deg "
+                          "(the picture collapses into its centre); use a smaller field of view "
+                          "(30 to 90 deg shows the hole and its surroundings)",
+                          key, num_vs(b, DEG(v), CR_MAX_FOV_DEG), CR_MAX_FOV_DEG);
+    return 0;
+}
+
+/* The metric of frame k, checked for a horizon. */
+static int frame_metric(const cr_scene *s, int k, int n, cr_metric *mt, cr_err *err)
+{
+    double ra, rq;
+    int i;
+    if (eval(s->m, k, n, &mt->m) || eval(s->a, k, n, &mt->a) || eval(s->q, k, n, &mt->q))
+        return frame_fail(err, s, k, n, "metric: m, a or q is not a finite number");
+    if (!(mt->m > 0.0))
+        return frame_fail(err, s, k, n, "metric.m = %g: the mass M must be positive", mt->m);
+    ra = mt->a / mt->m;
+    rq = mt->q / mt->m;
+    if (!(ra * ra + rq * rq <= 1.0 + EXTREMAL_TOL))
+        return frame_fail(err, s, k, n,
+                          "metric.a = %g, metric.q = %g: a^2 + q^2 = %g exceeds m^2 = %g, so "
+                          "there is no event horizon (a naked singularity); need "
+                          "a^2 + q^2 <= m^2",
+                          mt->a, mt->q, mt->a * mt->a + mt->q * mt->q, mt->m * mt->m);
+    /* within the slack of the extremal case: round M up to it */
+    if (mt->m * mt->m - mt->a * mt->a - mt->q * mt->q < 0.0)
+        mt->m = sqrt(mt->a * mt->a + mt->q * mt->q);
+    for (i = 0; i < 8 && mt->m * mt->m - mt->a * mt->a - mt->q * mt->q < 0.0; i++)
+        mt->m = nextafter(mt->m, INFINITY);
+    if (!isfinite(cr_metric_r_plus(mt)))
+        return frame_fail(err, s, k, n, "metric: m = %g, a = %g, q = %g are out of range",
+                          mt->m, mt->a, mt->q);
+    return 0;
+}
+
+/* The fisheye's field of view: (0, 360] deg. */
+static int check_fisheye_fov(const char *key, double v, const cr_scene *s, int k, int n,
+                             cr_err *err)
+{
+    char b[32];
+    if (!(v > 0.0 && v <= CR_TWO_PI * (1.0 + 1e-12)))
+        return frame_fail(err, s, k, n,
+                          "observer.%s = %s deg: a fisheye's field of view must lie above 0 and "
+                          "at most 360 deg (360 shows every direction; for a full panorama "
+                          "use projection: equirectangular)",
+                          key, num_vs(b, DEG(v), v > 0.0 ? 360.0 : 0.0));
+    return 0;
+}
+
+/* A moving observer (motion other than static) at a finite r outside the
+ * horizon: does its motion exist there, with |v| < 1? */
+static int frame_motion(const cr_scene *s, int k, int n, const cr_metric *mt,
+                        const cr_observer *o, cr_err *err)
+{
+    double v[3], speed;
+    int on_axis = fabs(sin(o->theta)) < 1e-10;
+    if (o->motion == CR_MOTION_ORBIT) {
+        int sense = cr_orbit_sense(mt, !o->retrograde);
+        const char *name = o->retrograde ? "retrograde" : "prograde";
+        if (fabs(o->theta - 0.5 * CR_PI) > THETA_TOL)
+            return frame_fail(err, s, k, n,
+                              "observer.motion = orbit: circular orbits lie in the equatorial "
+                              "plane, but observer.theta = %g deg (need 90 deg)",
+                              DEG(o->theta));
+        if (!cr_observer_zamo_velocity(mt, o, on_axis, v))
+            return frame_fail(err, s, k, n,
+                              "observer.motion = orbit: no timelike circular orbit exists at "
+                              "observer.r = %g; %s circular orbits need r above the %s "
+                              "photon orbit r = %g",
+                              o->r, name, name, cr_orbit_r_photon(mt, sense));
+        return 0;
+    }
+    if (o->motion == CR_MOTION_VELOCITY) {
+        speed = sqrt(o->v[0] * o->v[0] + o->v[1] * o->v[1] + o->v[2] * o->v[2]);
+        if (!(speed < 1.0)) {
+            char b[32];
+            return frame_fail(err, s, k, n,
+                              "observer.motion = [%g, %g, %g]: the speed |v| = %s must be "
+                              "below 1 (the speed of light)",
+                              o->v[0], o->v[1], o->v[2], num_vs(b, speed, 1.0));
+        }
+        if (on_axis && (o->v[1] != 0.0 || o->v[2] != 0.0))
+            return frame_fail(err, s, k, n,
+                              "observer.motion = [%g, %g, %g]: on the polar axis (theta = %g "
+                              "deg) e_theta and e_phi are not defined; an observer there may "
+                              "move only along r (v_theta = v_phi = 0)",
+                              o->v[0], o->v[1], o->v[2], DEG(o->theta));
+    }
+    return 0;
+}
+
+static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, int width,
+                          int height, cr_observer *o, cr_err *err)
+{
+    double rp, re, mgtt;
+    const int inf = s->obs_at_infinity;
+    if ((!inf && eval(s->obs_r, k, n, &o->r)) || eval(s->obs_theta, k, n, &o->theta) ||
+        eval(s->obs_phi, k, n, &o->phi) || eval(s->roll, k, n, &o->roll) ||
+        eval(s->pitch, k, n, &o->pitch) || eval(s->yaw, k, n, &o->yaw) ||
+        (!inf && eval(s->hfov, k, n, &o->hfov)) ||
+        (!inf && s->has_vfov && eval(s->vfov, k, n, &o->vfov)) ||
+        (inf && eval(s->hextent, k, n, &o->hextent)) ||
+        (inf && s->has_vextent && eval(s->vextent, k, n, &o->vextent)) ||
+        eval(s->obs_v[0], k, n, &o->v[0]) || eval(s->obs_v[1], k, n, &o->v[1]) ||
+        eval(s->obs_v[2], k, n, &o->v[2]))
+        return frame_fail(err, s, k, n, "observer: a value is not a finite number");
+    o->motion = s->obs_motion;
+    o->projection = s->obs_projection;
+    o->retrograde = s->obs_retrograde;
+    if (o->theta < -THETA_TOL || o->theta > CR_PI + THETA_TOL)
+        return frame_fail(err, s, k, n, "observer.theta = %g deg lies outside 0 to 180 deg",
+                          DEG(o->theta));
+    o->theta = fmin(fmax(o->theta, 0.0), CR_PI);
+    if (inf) {
+        /* Bardeen's image plane: no horizon, ergosphere or range check applies */
+        o->r = INFINITY;
+        o->hfov = o->vfov = 0.0;
+        if (!(o->hextent > 0.0))
+            return frame_fail(err, s, k, n,
+                              "observer.hextent = %g: the width of the image plane must be "
+                              "positive",
+                              o->hextent);
+        if (!s->has_vextent) /* square pixels, as (E.4.1) */
+            o->vextent = o->hextent * (double)height / (double)width;
+        if (!(o->vextent > 0.0 && isfinite(o->vextent)))
+            return frame_fail(err, s, k, n,
+                              "observer.vextent = %g%s: the height of the image plane must be "
+                              "positive and finite",
+                              o->vextent, s->has_vextent ? "" : " (hextent x height / width)");
+        return 0;
+    }
+    rp = cr_metric_r_plus(mt);
+    if (o->r <= rp)
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g is at or inside the event horizon r+ = %g", o->r, rp);
+    re = cr_metric_r_ergo(mt, o->theta);
+    mgtt = cr_metric_minus_gtt(mt, o->r, o->theta);
+    if (o->r > re && !isfinite(mgtt)) /* r^2 overflows or underflows */
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g with metric.m = %g is out of the range curray can "
+                          "compute with (lengths are in units of M: keep r/M and M sensible)",
+                          o->r, mt->m);
+    if (o->motion == CR_MOTION_STATIC && (o->r <= re || !(mgtt > 0.0)))
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g at theta = %g deg is inside the ergosphere "
+                          "(r_E+ = %g): no static observer exists there (observer.motion: "
+                          "zamo, orbit, infall or a velocity can be there)",
+                          o->r, DEG(o->theta), re);
+    if (o->motion != CR_MOTION_STATIC && frame_motion(s, k, n, mt, o, err))
+        return -1;
+    if (o->projection == CR_PROJ_EQUIRECT) {
+        o->hfov = CR_TWO_PI;
+        o->vfov = CR_PI;
+        return 0;
+    }
+    if (o->projection == CR_PROJ_FISHEYE) {
+        if (!s->has_vfov) /* square pixels: the angle is linear in the pixel */
+            o->vfov = o->hfov * (double)height / (double)width;
+        return check_fisheye_fov("hfov", o->hfov, s, k, n, err) ||
+               check_fisheye_fov("vfov", o->vfov, s, k, n, err);
+    }
+    if (check_fov("hfov", o->hfov, s, k, n, err))
+        return -1;
+    if (!s->has_vfov) /* (E.4.1): square pixels */
+        o->vfov = 2.0 * atan(tan(0.5 * o->hfov) * (double)height / (double)width);
+    return check_fov("vfov", o->vfov, s, k, n, err);
+}
+
+static int frame_disc(const cr_scene *s, int k, int n, cr_disc *d, cr_err *err)
+{
+    memset(d, 0, sizeof *d);
+    if (!s->has_disc)
+        return 0;
+    d->enabled = 1;
+    d->color1 = s->disc_color1;
+    d->color2 = s->disc_color2;
+    d->n_radial = s->disc_n_radial;
+    d->n_sectors = s->disc_n_sectors;
+    d->model = s->disc_model;
+    if (eval(s->disc_yaw, k, n, &d->yaw) || eval(s->disc_r_in, k, n, &d->r_in) ||
+        eval(s->disc_r_out, k, n, &d->r_out))
+        return frame_fail(err, s, k, n, "accretion: a value is not a finite number");
+    if (d->model == CR_DISC_KEPLERIAN) {
+        if (!(d->r_out > 0.0))
+            return frame_fail(err, s, k, n,
+                              "accretion.radius: the outer radius %g must be positive",
+                              d->r_out);
+        if (s->disc_has_r_in && !(d->r_in < d->r_out))
+            return frame_fail(err, s, k, n,
+                              "accretion.radius: the inner radius %g must be below the outer "
+                              "radius %g",
+                              d->r_in, d->r_out);
+        return 0; /* the rest needs the metric: frame_keplerian */
+    }
+    if (d->n_radial < 1 || d->n_sectors < 1)
+        return frame_fail(err, s, k, n,
+                          "accretion.resolution = [%d, %d]: both must be at least 1",
+                          d->n_radial, d->n_sectors);
+    if (d->r_in < 0.0)
+        return frame_fail(err, s, k, n, "accretion.radius: the inner radius %g is negative",
+                          d->r_in);
+    if (!(d->r_in < d->r_out))
+        return frame_fail(err, s, k, n,
+                          "accretion.radius: the inner radius %g must be below the outer "
+                          "radius %g",
+                          d->r_in, d->r_out);
+    return 0;
+}
+
+/* Message "what" into why[0..n), for cr_scene_keplerian. */
+static int keplerian_fail(char *why, size_t n, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+static int keplerian_fail(char *why, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, n, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+int cr_scene_keplerian(const cr_scene *s, const cr_metric *mt, double m, cr_disc *d, char *why,
+                       size_t n)
+{
+    const char *sense = s->disc_retrograde ? "retrograde" : "prograde";
+    double rp = cr_metric_r_plus(mt), risco;
+    d->sense = cr_orbit_sense(mt, !s->disc_retrograde);
+    d->t_peak = s->disc_temperature;
+    d->mass_msun = s->disc_mass_msun;
+    d->mdot_edd = s->disc_mdot_edd;
+    d->plunge = s->disc_plunge;
+    risco = cr_orbit_r_isco(mt, d->sense);
+    d->r_isco = risco;
+    if (!s->disc_has_r_in)
+        d->r_in = risco;
+    if (s->disc_has_r_in && !(d->r_in > rp))
+        return keplerian_fail(why, n,
+                              "accretion.radius: the inner radius %g is at or inside the event "
+                              "horizon r+ = %g",
+                              d->r_in * m, rp * m);
+    if (!(risco < d->r_out))
+        return keplerian_fail(why, n,
+                              "accretion.radius: the %s ISCO r_isco = %g lies at or beyond the "
+                              "outer radius %g: no stable orbit is left on the disc",
+                              sense, risco * m, d->r_out * m);
+    if (d->plunge && d->r_in > risco)
+        return keplerian_fail(why, n,
+                              "accretion.inside_isco = plunging: the matter falls from the %s "
+                              "ISCO r_isco = %g, but the inner radius %g lies outside it; leave "
+                              "the inner radius out (radius: [outer]) or put it at or inside "
+                              "the ISCO",
+                              sense, risco * m, d->r_in * m);
+    if (cr_disc_keplerian_prepare(d, mt) != 0)
+        return keplerian_fail(why, n,
+                              "accretion: metric.a = %g, metric.q = %g are too close to an "
+                              "extremal hole for the keplerian disc: its %s ISCO (%g) lies "
+                              "within %g M of the photon orbit and the flux table cannot "
+                              "resolve the flux peak there; use a spin up to about 0.9999 M "
+                              "(Thorne's limit is 0.998 M)",
+                              mt->a * m, mt->q * m, sense, risco * m, (double)CR_FLUX_MIN_GAP);
+    return 0;
+}
+
+/* The Keplerian disc's per-frame data, for a frame already in units of M;
+ * m is the scene's M, to give radii in the scene's units in messages. */
+static int frame_keplerian(const cr_scene *s, int k, int n, double m, cr_frame *f, cr_err *err)
+{
+    char why[CR_ERR_MSG];
+    if (!f->disc.enabled || f->disc.model != CR_DISC_KEPLERIAN)
+        return 0;
+    if (cr_scene_keplerian(s, &f->metric, m, &f->disc, why, sizeof why))
+        return frame_fail(err, s, k, n, "%s", why);
+    return 0;
+}
+
+static int frame_sphere(const cr_scene *s, int k, int n, int i, double a, cr_sphere *sp,
+                        cr_err *err)
+{
+    const cr_scene_sphere *ss = &s->spheres[i];
+    memset(sp, 0, sizeof *sp);
+    sp->color = ss->color;
+    sp->n_lat = ss->n_lat;
+    sp->n_lon = ss->n_lon;
+    if (eval(ss->r, k, n, &sp->r) || eval(ss->theta, k, n, &sp->theta) ||
+        eval(ss->phi, k, n, &sp->phi) || eval(ss->roll, k, n, &sp->roll) ||
+        eval(ss->pitch, k, n, &sp->pitch) || eval(ss->yaw, k, n, &sp->yaw) ||
+        eval(ss->radius, k, n, &sp->radius))
+        return frame_fail(err, s, k, n, "sphere %d (line %d): a value is not a finite number", i,
+                          ss->line);
+    if (sp->n_lat < 1 || sp->n_lon < 1)
+        return frame_fail(err, s, k, n,
+                          "sphere %d (line %d): resolution [%d, %d]: both must be at least 1", i,
+                          ss->line, sp->n_lat, sp->n_lon);
+    if (sp->r < 0.0)
+        return frame_fail(err, s, k, n, "sphere %d (line %d): r = %g must not be negative", i,
+                          ss->line, sp->r);
+    if (!(sp->radius > 0.0))
+        return frame_fail(err, s, k, n, "sphere %d (line %d): radius = %g must be positive", i,
+                          ss->line, sp->radius);
+    cr_sphere_prepare(sp, a);
+    return 0;
+}
+
+static int frame_settings(const cr_scene *s, int k, int n, const cr_trace_settings *ts,
+                          cr_frame *f, cr_err *err)
+{
+    cr_trace_settings t = ts ? *ts : cr_trace_defaults();
+    char msg[CR_ERR_MSG];
+    if (t.samples == 0) /* 0 means 1 */
+        t.samples = 1;
+    if (cr_trace_settings_check(&t, msg, sizeof msg))
+        return frame_fail(err, s, k, n, "%s", msg);
+    if (s->obs_at_infinity && t.integrator == CR_INTEG_RK4)
+        return frame_fail(err, s, k, n,
+                          "raytracer.integrator = %s: the rk4 integrator cannot start at "
+                          "infinity (observer.r: inf); use mino, or give observer.r a finite "
+                          "value",
+                          cr_integrator_name(t.integrator));
+    cr_trace_settings_to_frame(&t, f);
+    return 0;
+}
+
+int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
+                   const cr_trace_settings *ts, cr_frame *f, cr_sphere *sphere_buf, cr_err *err)
+{
+    int i;
+
+    memset(f, 0, sizeof *f);
+    if (n < 1 || k < 0 || k >= n)
+        return frame_fail(err, s, 0, 1, "frame %d of %d does not exist (frames are 0 to n-1)",
+                          k, n);
+    if (width < 1 || height < 1)
+        return frame_fail(err, s, k, n, "the image size %d x %d must be positive", width,
+                          height);
+    if (s->n_spheres > 0 && !sphere_buf)
+        return frame_fail(err, s, k, n, "no room given for the spheres");
+    if (frame_settings(s, k, n, ts, f, err) || frame_metric(s, k, n, &f->metric, err) ||
+        frame_observer(s, k, n, &f->metric, width, height, &f->observer, err) ||
+        frame_disc(s, k, n, &f->disc, err))
+        return -1;
+    for (i = 0; i < s->n_spheres; i++)
+        if (frame_sphere(s, k, n, i, f->metric.a, &sphere_buf[i], err))
+            return -1;
+    f->spheres = s->n_spheres > 0 ? sphere_buf : NULL;
+    f->n_spheres = s->n_spheres;
+    if (s->has_sky) {
+        if (!s->sky_rgb || s->sky_width < 1 || s->sky_height < 1)
+            return frame_fail(err, s, k, n, "skymap: no sky image is loaded");
+        if (s->sky_at_infinity)
+            f->sky_boundary = 0.0;
+        else if (eval(s->sky_boundary, k, n, &f->sky_boundary) || !(f->sky_boundary > 0.0))
+            return frame_fail(err, s, k, n, "skymap.boundary = %g must be positive",
+                              f->sky_boundary);
+        f->sky.rgb = s->sky_rgb;
+        f->sky.width = s->sky_width;
+        f->sky.height = s->sky_height;
+    }
+    f->sky_color = s->sky_color;
+    f->horizon_color = s->horizon_color;
+    f->error_color = s->error_color;
+    f->limit_color = s->limit_color;
+    f->width = width;
+    f->height = height;
+    /* inside the core every length is in units of M (messages above use the
+     * scene's own units) */
+    for (i = 0; i < s->n_spheres; i++)
+        cr_sphere_to_units_of_m(&sphere_buf[i], f->metric.m);
+    {
+        double m_scene = f->metric.m;
+        cr_frame_to_units_of_m(f);
+        if (frame_keplerian(s, k, n, m_scene, f, err))
+            return -1;
+    }
+    if (!s->obs_at_infinity) {
+        /* an observer closer to the horizon than 2 epsilon (8.1: observers
+         * just outside the horizon work): stop rays halfway between the
+         * observer and r+ instead; the caller sees the smaller
+         * horizon_epsilon in the frame and says so */
+        double gap = f->observer.r - cr_metric_r_plus(&f->metric);
+        if (gap < 2.0 * f->horizon_epsilon)
+            f->horizon_epsilon = 0.5 * gap;
+    }
+    cr_frame_prepare(f);
+    /* the boundary of an observer at infinity is at infinity too */
+    if (!(isfinite(f->r_max) || (s->obs_at_infinity && f->r_max == INFINITY)) ||
+        !isfinite(f->r_stop) || !(f->obs_sqrt_mgtt > 0.0) ||
+        !isfinite(f->obs_sqrt_mgtt) || !isfinite(f->tan_half_h) || !isfinite(f->tan_half_v))
+        return frame_fail(err, s, k, n,
+                          "the scene's numbers are too large to trace (r_max = %g)", f->r_max);
+    return 0;
+}
+
+int cr_frame_eval_at(cr_frame_eval *e, const cr_scene *s, int k, int n, int width, int height,
+                     const cr_trace_settings *ts, cr_err *err)
+{
+    if (s->n_spheres > e->n_room) {
+        cr_sphere *p = realloc(e->spheres, sizeof *p * (size_t)s->n_spheres);
+        if (!p) {
+            memset(&e->frame, 0, sizeof e->frame);
+            return frame_fail(err, s, k, n, "out of memory for %d spheres", s->n_spheres);
+        }
+        e->spheres = p;
+        e->n_room = s->n_spheres;
+    }
+    if (cr_scene_frame(s, k, n, width, height, ts, &e->frame, e->spheres, err)) {
+        memset(&e->frame, 0, sizeof e->frame);
+        return -1;
+    }
+    return 0;
+}
+
+void cr_frame_eval_free(cr_frame_eval *e)
+{
+    free(e->spheres);
+    memset(e, 0, sizeof *e);
+}
+
+/* Is any number of the scene animated ([linear, a, b] with a != b)? Every
+ * cr_anim of cr_scene is listed here; a new animatable key belongs here too. */
+static int scene_animated(const cr_scene *s)
+{
+    const cr_anim *v[] = {&s->m,         &s->a,        &s->q,          &s->obs_r,
+                          &s->obs_theta, &s->obs_phi,  &s->roll,       &s->pitch,
+                          &s->yaw,       &s->hfov,     &s->vfov,       &s->hextent,
+                          &s->vextent,   &s->obs_v[0], &s->obs_v[1],   &s->obs_v[2],
+                          &s->disc_yaw,  &s->disc_r_in, &s->disc_r_out, &s->sky_boundary};
+    size_t i;
+    int j;
+    for (i = 0; i < sizeof v / sizeof v[0]; i++)
+        if (v[i]->a != v[i]->b)
+            return 1;
+    for (j = 0; j < s->n_spheres; j++) {
+        const cr_scene_sphere *p = &s->spheres[j];
+        const cr_anim *w[] = {&p->r, &p->theta, &p->phi, &p->roll, &p->pitch, &p->yaw,
+                              &p->radius};
+        for (i = 0; i < sizeof w / sizeof w[0]; i++)
+            if (w[i]->a != w[i]->b)
+                return 1;
+    }
+    return 0;
+}
+
+int cr_scene_hints(const cr_scene *s, int n, cr_err *hints, int max_hints)
+{
+    int count = 0, j, k;
+    if (s->has_sky && s->sky_rgb && s->sky_width != 2 * s->sky_height && count < max_hints)
+        cr_err_set(&hints[count++],
+                   "skymap.image %s is %dx%d pixels, %.3g times as wide as high: the sky map "
+                   "covers 360 x 180 deg, so it is stretched %s (an equirectangular image is "
+                   "twice as wide as high)",
+                   s->sky_image, s->sky_width, s->sky_height,
+                   (double)s->sky_width / (double)s->sky_height,
+                   s->sky_width > 2 * s->sky_height ? "vertically" : "horizontally");
+    /* A sphere is tested in the Cartesian coordinates (2.2.8), where its
+     * centre lies sqrt(r^2 + a^2 sin^2 theta) from the origin; the region
+     * r <= r+ contains the ball of radius r+ there, so a sphere with
+     * |centre| + radius <= r+ lies wholly inside the horizon: no ray reaches
+     * it (they stop at r+ + horizon_epsilon). */
+    for (j = 0; j < s->n_spheres && count < max_hints; j++) {
+        const cr_scene_sphere *p = &s->spheres[j];
+        int first = -1, inside = 0;
+        for (k = 0; k < n; k++) {
+            double m = cr_anim_at(s->m, k, n), a = cr_anim_at(s->a, k, n);
+            double q = cr_anim_at(s->q, k, n), r = cr_anim_at(p->r, k, n);
+            double st = sin(cr_anim_at(p->theta, k, n));
+            double disc = m * m - a * a - q * q;
+            double rp = m + sqrt(disc > 0.0 ? disc : 0.0);
+            if (sqrt(r * r + a * a * st * st) + cr_anim_at(p->radius, k, n) <= rp) {
+                inside++;
+                if (first < 0)
+                    first = k;
+            }
+        }
+        if (inside == n)
+            cr_err_set(&hints[count++],
+                       "sphere %d (line %d) lies wholly inside the event horizon%s: no ray "
+                       "reaches it, so it cannot be seen",
+                       j, p->line, n > 1 ? " in every frame" : "");
+        else if (inside > 0)
+            cr_err_set(&hints[count++],
+                       "sphere %d (line %d) lies wholly inside the event horizon in %d of %d "
+                       "frames (first in frame %d): it cannot be seen there",
+                       j, p->line, inside, n, first);
+    }
+    if (n > 1 && !scene_animated(s) && count < max_hints)
+        cr_err_set(&hints[count++],
+                   "-f %d: nothing in the scene is animated (no [linear, start, end] value), so "
+                   "all %d frames are the same image",
+                   n, n);
+    return count;
+}

@@ -1,0 +1,842 @@
+/* curray input: reading scene files (appendix E.4) into a cr_scene.
+ *
+ * Loading walks the libyaml document with the checked getters of yamlutil.h;
+ * every error names file:line:col and the key path. The physical checks of
+ * ERRATA item 4 depend on the frame (values may be animated), so they are
+ * made by the evaluation, cr_scene_frame (scene_eval.c).
+ */
+#include "scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../base/png_io.h"
+#include "../core/defs.h"
+#include "names.h"
+#include "yamlutil.h"
+
+/* Largest scene file read (bytes). */
+#define SCENE_MAX_BYTES (16L << 20)
+/* Largest sky image loaded (pixels). */
+#define SKY_MAX_PIXELS (1LL << 28)
+
+#define REQ(k) {k, 1, 0, NULL, NULL, 0}
+#define OPT(k) {k, 0, 0, NULL, NULL, 0}
+#define MANY(k) {k, 0, 1, NULL, NULL, 0}
+
+/* A colour with components 0..255. */
+#define RGB(r_, g_, b_) ((cr_rgb){.r = (r_), .g = (g_), .b = (b_)})
+
+/* What a scalar value is: a plain number or an angle (stored in radians). */
+typedef enum { V_NUMBER, V_ANGLE } value_kind;
+
+static int get_value(cr_yaml *y, yaml_node_t *node, const char *path, value_kind kind,
+                     double *out, cr_err *err)
+{
+    return kind == V_ANGLE ? cr_yaml_angle(y, node, path, out, err)
+                           : cr_yaml_number(y, node, path, out, err);
+}
+
+/* A value that may be animated: a scalar, or [linear, start, end] whose start
+ * and end follow the same unit rules. */
+static int get_anim(cr_yaml *y, yaml_node_t *node, const char *path, value_kind kind,
+                    cr_anim *out, cr_err *err)
+{
+    char sub[CR_YAML_PATH], got[96];
+    const char *what = kind == V_ANGLE ? "an angle" : "a number";
+    double v;
+
+    if (node && node->type == YAML_SEQUENCE_NODE) {
+        yaml_node_t *it[3], *first = NULL;
+        if (node->data.sequence.items.top > node->data.sequence.items.start)
+            first = cr_yaml_node(y, node->data.sequence.items.start[0]);
+        if (first && first->type == YAML_SCALAR_NODE && first->data.scalar.length > 0) {
+            char c = (char)first->data.scalar.value[0];
+            if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z')) {
+                if (!cr_yaml_scalar_is(first, "linear")) {
+                    cr_yaml_describe(first, got, sizeof got);
+                    cr_yaml_path_index(sub, sizeof sub, path, 0);
+                    return cr_yaml_fail(y, first, sub, err,
+                                        "unknown animation %s (expected [linear, start, end])",
+                                        got);
+                }
+                if (cr_yaml_list(y, node, path, 3, "an animation [linear, start, end]", it, NULL,
+                                 err))
+                    return -1;
+                cr_yaml_path_index(sub, sizeof sub, path, 1);
+                if (get_value(y, it[1], sub, kind, &out->a, err))
+                    return -1;
+                cr_yaml_path_index(sub, sizeof sub, path, 2);
+                return get_value(y, it[2], sub, kind, &out->b, err);
+            }
+        }
+        cr_yaml_describe(node, got, sizeof got);
+        return cr_yaml_fail(y, node, path, err,
+                            "expected %s or an animation [linear, start, end], got %s", what, got);
+    }
+    if (get_value(y, node, path, kind, &v, err))
+        return -1;
+    out->a = out->b = v;
+    return 0;
+}
+
+/* An optional or required animated field of section path: sets the default
+ * dflt when it is absent. */
+/* Refuse the keys f[first] .. f[last] (in that order, either direction)
+ * that are present, naming the first one found: they do not apply here, and
+ * why says so. Returns -1 with err set, or 0 when none is present. */
+static int refuse_keys(cr_yaml *y, const cr_yaml_field *f, int first, int last, const char *path,
+                       const char *why, cr_err *err)
+{
+    int step = first <= last ? 1 : -1, i;
+    for (i = first;; i += step) {
+        if (f[i].value) {
+            char sub[CR_YAML_PATH];
+            cr_yaml_path_key(sub, sizeof sub, path, f[i].key);
+            return cr_yaml_fail(y, f[i].key_node, sub, err, "%s", why);
+        }
+        if (i == last)
+            return 0;
+    }
+}
+
+static int field_anim(cr_yaml *y, const cr_yaml_field *f, const char *path, value_kind kind,
+                      double dflt, cr_anim *out, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    if (!f->value) {
+        out->a = out->b = dflt;
+        return 0;
+    }
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    return get_anim(y, f->value, sub, kind, out, err);
+}
+
+static int get_rgb(cr_yaml *y, yaml_node_t *node, const char *path, cr_rgb *out, cr_err *err)
+{
+    yaml_node_t *it[3];
+    char sub[CR_YAML_PATH];
+    long v[3];
+    int i;
+    if (cr_yaml_list(y, node, path, 3, "a colour [R, G, B]", it, NULL, err))
+        return -1;
+    for (i = 0; i < 3; i++) {
+        cr_yaml_path_index(sub, sizeof sub, path, i);
+        if (cr_yaml_int(y, it[i], sub, 0, 255, "a colour component, an integer from 0 to 255",
+                        &v[i], err))
+            return -1;
+    }
+    out->r = (uint8_t)v[0];
+    out->g = (uint8_t)v[1];
+    out->b = (uint8_t)v[2];
+    return 0;
+}
+
+static int field_rgb(cr_yaml *y, const cr_yaml_field *f, const char *path, cr_rgb dflt,
+                     cr_rgb *out, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    if (!f->value) {
+        *out = dflt;
+        return 0;
+    }
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    return get_rgb(y, f->value, sub, out, err);
+}
+
+/* resolution: [n1, n2], both positive integers. what names the pair. */
+static int field_resolution(cr_yaml *y, const cr_yaml_field *f, const char *path,
+                            const char *what, int *n1, int *n2, cr_err *err)
+{
+    yaml_node_t *it[2];
+    char sub[CR_YAML_PATH], sub2[CR_YAML_PATH];
+    long v[2];
+    int i;
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    if (cr_yaml_list(y, f->value, sub, 2, what, it, NULL, err))
+        return -1;
+    for (i = 0; i < 2; i++) {
+        cr_yaml_path_index(sub2, sizeof sub2, sub, i);
+        if (cr_yaml_int(y, it[i], sub2, 1, 2147483647L, "a positive integer", &v[i], err))
+            return -1;
+    }
+    *n1 = (int)v[0];
+    *n2 = (int)v[1];
+    return 0;
+}
+
+/* ---- sections ------------------------------------------------------------- */
+
+static int parse_metric(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
+                        cr_err *err)
+{
+    cr_yaml_field f[] = {REQ("m"), REQ("a"), REQ("q")};
+    if (cr_yaml_fields(y, map, "metric", key, f, 3, err))
+        return -1;
+    if (field_anim(y, &f[0], "metric", V_NUMBER, 0.0, &s->m, err) ||
+        field_anim(y, &f[1], "metric", V_NUMBER, 0.0, &s->a, err) ||
+        field_anim(y, &f[2], "metric", V_NUMBER, 0.0, &s->q, err))
+        return -1;
+    return 0;
+}
+
+/* A key that takes inf as a plain value (observer.r, skymap.boundary):
+ * -1 with a message for -inf and for inf inside an animation, else 0 with
+ * *is_inf set when the value is inf. what says what inf means there. */
+static int get_inf(cr_yaml *y, yaml_node_t *node, const char *path, const char *what,
+                   int *is_inf, cr_err *err)
+{
+    char sub[CR_YAML_PATH], got[96];
+    int sign = cr_yaml_infinity_sign(node);
+    *is_inf = 0;
+    if (sign < 0) {
+        cr_yaml_describe(node, got, sizeof got);
+        return cr_yaml_fail(y, node, path, err,
+                            "expected a positive number or inf (%s), got %s", what, got);
+    }
+    if (sign > 0) {
+        *is_inf = 1;
+        return 0;
+    }
+    if (node && node->type == YAML_SEQUENCE_NODE) {
+        int i, m = (int)(node->data.sequence.items.top - node->data.sequence.items.start);
+        for (i = 1; i < m && i < 3; i++) {
+            yaml_node_t *it = cr_yaml_node(y, node->data.sequence.items.start[i]);
+            if (it && cr_yaml_infinity_sign(it) != 0) {
+                cr_yaml_path_index(sub, sizeof sub, path, i);
+                return cr_yaml_fail(y, it, sub, err,
+                                    "inf (%s) cannot be animated: write it as a plain value, "
+                                    "or animate between finite numbers",
+                                    what);
+            }
+        }
+    }
+    return 0;
+}
+
+/* A word of kind (a string at path) into *out; what names the kind, and
+ * expected, a printf format taking the list of words, says what is
+ * expected. */
+static int get_choice(cr_yaml *y, yaml_node_t *node, const char *path, const char *what,
+                      cr_names kind, const char *expected, int *out, cr_err *err)
+{
+    const char *v;
+    char got[96], want[256];
+    int i;
+    if (cr_yaml_string(y, node, path, &v, err))
+        return -1;
+    i = cr_name_parse(kind, v, strlen(v));
+    if (i >= 0) {
+        *out = i;
+        return 0;
+    }
+    cr_yaml_describe(node, got, sizeof got);
+    snprintf(want, sizeof want, expected, cr_names_list(kind));
+    return cr_yaml_fail(y, node, path, err, "unknown %s %s (expected %s)", what, got, want);
+}
+
+/* observer.motion: static | zamo | orbit | infall, or [v_r, v_theta, v_phi]
+ * (each a number or an animation [linear, start, end]). */
+static int parse_motion(cr_yaml *y, yaml_node_t *node, cr_scene *s, cr_err *err)
+{
+    const char *path = "observer.motion";
+    char what[256];
+    if (node->type == YAML_SEQUENCE_NODE) {
+        yaml_node_t *it[3];
+        char sub[CR_YAML_PATH];
+        int i;
+        snprintf(what, sizeof what,
+                 "a motion (%s) or a 3-velocity [v_r, v_theta, v_phi] measured by the ZAMO",
+                 cr_names_list(CR_NAMES_MOTION));
+        if (cr_yaml_list(y, node, path, 3, what, it, NULL, err))
+            return -1;
+        for (i = 0; i < 3; i++) {
+            cr_yaml_path_index(sub, sizeof sub, path, i);
+            if (get_anim(y, it[i], sub, V_NUMBER, &s->obs_v[i], err))
+                return -1;
+        }
+        s->obs_motion = CR_MOTION_VELOCITY;
+        return 0;
+    }
+    return get_choice(y, node, path, "motion", CR_NAMES_MOTION,
+                      "one of: %s, or a 3-velocity [v_r, v_theta, v_phi] measured by the ZAMO",
+                      &s->obs_motion, err);
+}
+
+static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
+                          cr_err *err)
+{
+    enum { R, THETA, PHI, ROLL, PITCH, YAW, HFOV, VFOV, HEXT, VEXT, MOTION, PROJ, RETRO, N };
+    cr_yaml_field f[N] = {REQ("r"),       REQ("theta"),   REQ("phi"),        OPT("roll"),
+                          OPT("pitch"),   OPT("yaw"),     OPT("hfov"),       OPT("vfov"),
+                          OPT("hextent"), OPT("vextent"), OPT("motion"),     OPT("projection"),
+                          OPT("retrograde")};
+    const char *p = "observer";
+    yaml_mark_t where;
+    int inf, i;
+
+    if (cr_yaml_fields(y, map, p, key, f, N, err) ||
+        get_inf(y, f[R].value, "observer.r", "the observer at infinity", &inf, err))
+        return -1;
+    where = key ? key->start_mark : map->start_mark;
+    if ((f[MOTION].value && parse_motion(y, f[MOTION].value, s, err)) ||
+        (f[PROJ].value &&
+         get_choice(y, f[PROJ].value, "observer.projection", "projection", CR_NAMES_PROJECTION,
+                    "one of: %s", &s->obs_projection, err)) ||
+        (f[RETRO].value && cr_yaml_bool(y, f[RETRO].value, "observer.retrograde",
+                                        &s->obs_retrograde, err)))
+        return -1;
+    if (f[RETRO].value && s->obs_motion != CR_MOTION_ORBIT)
+        return cr_yaml_fail(y, f[RETRO].key_node, "observer.retrograde", err,
+                            "applies only to motion: orbit (the sense of the circular orbit)");
+    if (inf && s->obs_motion != CR_MOTION_STATIC)
+        return cr_yaml_fail(y, f[MOTION].value, "observer.motion", err,
+                            "the observer at infinity (r: inf) is static; give observer.r a "
+                            "finite value to move");
+    if (inf && s->obs_projection != CR_PROJ_RECTILINEAR)
+        return cr_yaml_fail(y, f[PROJ].value, "observer.projection", err,
+                            "the observer at infinity (r: inf) sees a flat image plane "
+                            "(rectilinear); give observer.r a finite value for a %s view",
+                            cr_name(CR_NAMES_PROJECTION, s->obs_projection));
+    /* which keys apply depends on r: inf (hextent, vextent) or finite (hfov, vfov) */
+    if (inf) {
+        for (i = HFOV; i <= VFOV; i++)
+            if (f[i].value) {
+                char sub[CR_YAML_PATH];
+                cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+                return cr_yaml_fail(y, f[i].key_node, sub, err,
+                                    "an observer at infinity (r: inf) has no field of view; "
+                                    "give the width of its image plane with hextent (a "
+                                    "length, like r), and optionally its height with vextent");
+            }
+        if (!f[HEXT].value)
+            return cr_yaml_fail_at(y, where, p, err,
+                                   "missing required key 'hextent' (the observer at infinity, "
+                                   "r: inf, needs the full width of its image plane, a length "
+                                   "like r)");
+    } else {
+        if (refuse_keys(y, f, HEXT, VEXT, p,
+                        "applies only to the observer at infinity (r: inf); an observer at a "
+                        "finite r takes hfov (and vfov)",
+                        err))
+            return -1;
+        if (s->obs_projection == CR_PROJ_EQUIRECT &&
+            refuse_keys(y, f, HFOV, VFOV, p,
+                        "an equirectangular view always shows the full sphere (360 x 180 "
+                        "deg); leave out hfov and vfov (an image twice as wide as high has "
+                        "square pixels)",
+                        err))
+            return -1;
+        if (!f[HFOV].value && s->obs_projection != CR_PROJ_EQUIRECT)
+            return cr_yaml_fail_at(y, where, p, err, "missing required key 'hfov'");
+    }
+    if ((!inf && field_anim(y, &f[R], p, V_NUMBER, 0.0, &s->obs_r, err)) ||
+        field_anim(y, &f[THETA], p, V_ANGLE, 0.0, &s->obs_theta, err) ||
+        field_anim(y, &f[PHI], p, V_ANGLE, 0.0, &s->obs_phi, err) ||
+        field_anim(y, &f[ROLL], p, V_ANGLE, 0.0, &s->roll, err) ||
+        field_anim(y, &f[PITCH], p, V_ANGLE, 0.0, &s->pitch, err) ||
+        field_anim(y, &f[YAW], p, V_ANGLE, 0.0, &s->yaw, err) ||
+        field_anim(y, &f[HFOV], p, V_ANGLE, 0.0, &s->hfov, err) ||
+        field_anim(y, &f[VFOV], p, V_ANGLE, 0.0, &s->vfov, err) ||
+        field_anim(y, &f[HEXT], p, V_NUMBER, 0.0, &s->hextent, err) ||
+        field_anim(y, &f[VEXT], p, V_NUMBER, 0.0, &s->vextent, err))
+        return -1;
+    if (inf) {
+        s->obs_at_infinity = 1;
+        s->obs_r.a = s->obs_r.b = INFINITY;
+        for (i = PITCH; i <= YAW; i++) {
+            const cr_anim *v = i == PITCH ? &s->pitch : &s->yaw;
+            if (v->a != 0.0 || v->b != 0.0) {
+                char sub[CR_YAML_PATH];
+                cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+                return cr_yaml_fail(y, f[i].value, sub, err,
+                                    "must be 0: an observer at infinity (r: inf) always looks "
+                                    "at the hole and can only roll");
+            }
+        }
+    }
+    s->has_vfov = f[VFOV].value != NULL;
+    s->has_vextent = f[VEXT].value != NULL;
+    return 0;
+}
+
+/* The optional number of field f of section path into *out when present:
+ * finite and > 0, else an error naming the key that says what it is. */
+static int positive_number(cr_yaml *y, const cr_yaml_field *f, const char *path,
+                           const char *what, const char *unit, double *out, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    if (!f->value)
+        return 0;
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    if (cr_yaml_number(y, f->value, sub, out, err))
+        return -1;
+    if (!(*out > 0.0) || !isfinite(*out))
+        return cr_yaml_fail(y, f->value, sub, err, "%s must be positive (%s), got %g", what,
+                            unit, *out);
+    return 0;
+}
+
+/* The keys of accretion, indexed by accretion_key. The chessboard's come
+ * first (COLOR1 .. YAW), the Keplerian disc's last (RETRO .. MDOT), so that
+ * refuse_keys names the other model's keys by range. */
+enum accretion_key {
+    ACC_COLOR1, ACC_COLOR2, ACC_RESOLUTION, ACC_YAW, ACC_RADIUS, ACC_MODEL,
+    ACC_RETRO, ACC_TEMP, ACC_INSIDE, ACC_MASS, ACC_MDOT, ACC_N
+};
+
+/* radius: [inner, outer] from the two items it[] of the list at path sub. */
+static int parse_radii(cr_yaml *y, yaml_node_t *const it[2], const char *sub, cr_scene *s,
+                       cr_err *err)
+{
+    char sub2[CR_YAML_PATH];
+    cr_yaml_path_index(sub2, sizeof sub2, sub, 0);
+    if (get_anim(y, it[0], sub2, V_NUMBER, &s->disc_r_in, err))
+        return -1;
+    cr_yaml_path_index(sub2, sizeof sub2, sub, 1);
+    if (get_anim(y, it[1], sub2, V_NUMBER, &s->disc_r_out, err))
+        return -1;
+    s->has_disc = 1;
+    return 0;
+}
+
+/* The Keplerian disc's radius: a plain outer radius, [outer], an animated
+ * outer radius [linear, start, end] (the inner radius then defaults to the
+ * ISCO), or [inner, outer]. */
+static int parse_keplerian_radius(cr_yaml *y, yaml_node_t *node, const char *p, cr_scene *s,
+                                  cr_err *err)
+{
+    char sub[CR_YAML_PATH], sub2[CR_YAML_PATH];
+    yaml_node_t *it[2], *first = NULL;
+    int count = 0;
+    cr_yaml_path_key(sub, sizeof sub, p, "radius");
+    if (node->type != YAML_SEQUENCE_NODE) {
+        s->disc_has_r_in = 0;
+        s->disc_r_in.a = s->disc_r_in.b = 0.0;
+        if (get_anim(y, node, sub, V_NUMBER, &s->disc_r_out, err))
+            return -1;
+        s->has_disc = 1;
+        return 0;
+    }
+    if (cr_yaml_list(y, node, sub, -1, NULL, NULL, &count, err))
+        return -1;
+    if (count > 0)
+        first = cr_yaml_node(y, node->data.sequence.items.start[0]);
+    if (count == 1 || (count == 3 && cr_yaml_scalar_is(first, "linear"))) {
+        s->disc_has_r_in = 0;
+        s->disc_r_in.a = s->disc_r_in.b = 0.0;
+        if (count == 1) {
+            cr_yaml_path_index(sub2, sizeof sub2, sub, 0);
+            if (get_anim(y, first, sub2, V_NUMBER, &s->disc_r_out, err))
+                return -1;
+        } else if (get_anim(y, node, sub, V_NUMBER, &s->disc_r_out, err))
+            return -1;
+        s->has_disc = 1;
+        return 0;
+    }
+    if (cr_yaml_list(y, node, sub, 2,
+                     "radii [inner, outer] or [outer] (each a number or [linear, start, "
+                     "end]; the inner radius defaults to the ISCO)",
+                     it, NULL, err))
+        return -1;
+    return parse_radii(y, it, sub, s, err);
+}
+
+/* The peak temperature, or the hole's mass with the accretion rate (the
+ * two go together, and not with the temperature). */
+static int parse_keplerian_luminosity(cr_yaml *y, const cr_yaml_field *f, const char *p,
+                                      cr_scene *s, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    if (!f[ACC_MASS].value != !f[ACC_MDOT].value || (f[ACC_TEMP].value && f[ACC_MASS].value)) {
+        int i = f[ACC_MASS].value ? ACC_MASS : ACC_MDOT;
+        cr_yaml_path_key(sub, sizeof sub, p, f[i].key);
+        return cr_yaml_fail(y, f[i].key_node, sub, err, "%s",
+                            f[ACC_TEMP].value
+                                ? "give either accretion.temperature (the peak temperature) "
+                                  "or accretion.mass_msun with accretion.mdot_edd (the "
+                                  "physical inputs), not both"
+                                : "accretion.mass_msun and accretion.mdot_edd go together "
+                                  "(the hole's mass in solar masses and the accretion rate "
+                                  "in Eddington units); give both");
+    }
+    return positive_number(y, &f[ACC_TEMP], p, "the peak temperature", "kelvin",
+                           &s->disc_temperature, err) ||
+                   positive_number(y, &f[ACC_MASS], p, "the hole's mass", "solar masses",
+                                   &s->disc_mass_msun, err) ||
+                   positive_number(y, &f[ACC_MDOT], p, "the accretion rate", "Eddington units",
+                                   &s->disc_mdot_edd, err)
+               ? -1
+               : 0;
+}
+
+/* model: keplerian: radius (required), retrograde, the temperature or the
+ * physical inputs, inside_isco; the chessboard's keys are refused. */
+static int parse_keplerian(cr_yaml *y, const cr_yaml_field *f, yaml_mark_t where, const char *p,
+                           cr_scene *s, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    if (refuse_keys(y, f, ACC_COLOR1, ACC_YAW, p,
+                    "applies only to model: chessboard (a keplerian disc is coloured by its "
+                    "temperature)",
+                    err))
+        return -1;
+    if (!f[ACC_RADIUS].value)
+        return cr_yaml_fail_at(y, where, p, err, "missing required key 'radius'");
+    if (f[ACC_RETRO].value) {
+        cr_yaml_path_key(sub, sizeof sub, p, "retrograde");
+        if (cr_yaml_bool(y, f[ACC_RETRO].value, sub, &s->disc_retrograde, err))
+            return -1;
+    }
+    if (parse_keplerian_luminosity(y, f, p, s, err))
+        return -1;
+    if (f[ACC_INSIDE].value) {
+        cr_yaml_path_key(sub, sizeof sub, p, "inside_isco");
+        if (get_choice(y, f[ACC_INSIDE].value, sub, "value", CR_NAMES_INSIDE_ISCO, "one of: %s",
+                       &s->disc_plunge, err))
+            return -1;
+    }
+    return parse_keplerian_radius(y, f[ACC_RADIUS].value, p, s, err);
+}
+
+/* model: chessboard (the paper's): color1, resolution and radius [inner,
+ * outer] required, color2 (default: the complement of color1, (E.4.2) with
+ * ERRATA item 3) and yaw; the Keplerian disc's keys are refused. */
+static int parse_chessboard(cr_yaml *y, const cr_yaml_field *f, yaml_mark_t where,
+                            const char *p, cr_scene *s, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    yaml_node_t *it[2];
+    cr_rgb c2;
+    if (refuse_keys(y, f, ACC_MDOT, ACC_RETRO, p, "applies only to model: keplerian", err))
+        return -1;
+    if (!f[ACC_COLOR1].value)
+        return cr_yaml_fail_at(y, where, p, err, "missing required key 'color1'");
+    if (!f[ACC_RESOLUTION].value)
+        return cr_yaml_fail_at(y, where, p, err, "missing required key 'resolution'");
+    if (!f[ACC_RADIUS].value)
+        return cr_yaml_fail_at(y, where, p, err, "missing required key 'radius'");
+    if (field_rgb(y, &f[ACC_COLOR1], p, s->disc_color1, &s->disc_color1, err))
+        return -1;
+    c2.r = (uint8_t)(255 - s->disc_color1.r);
+    c2.g = (uint8_t)(255 - s->disc_color1.g);
+    c2.b = (uint8_t)(255 - s->disc_color1.b);
+    if (field_rgb(y, &f[ACC_COLOR2], p, c2, &s->disc_color2, err) ||
+        field_resolution(y, &f[ACC_RESOLUTION], p, "a resolution [radial divisions, sectors]",
+                         &s->disc_n_radial, &s->disc_n_sectors, err) ||
+        field_anim(y, &f[ACC_YAW], p, V_ANGLE, 0.0, &s->disc_yaw, err))
+        return -1;
+    cr_yaml_path_key(sub, sizeof sub, p, "radius");
+    if (cr_yaml_list(y, f[ACC_RADIUS].value, sub, 2,
+                     "radii [inner, outer] (each a number or [linear, start, end])", it, NULL,
+                     err))
+        return -1;
+    return parse_radii(y, it, sub, s, err);
+}
+
+/* accretion: {model: chessboard (default) | keplerian, ...}. The chessboard
+ * takes color1, color2, resolution, yaw and radius [inner, outer] (the
+ * paper's keys); the Keplerian disc takes radius [inner, outer] or [outer]
+ * (or a plain outer radius; the inner radius then defaults to the ISCO),
+ * retrograde (default false), inside_isco (nothing, the default, or
+ * plunging), and either temperature (the peak temperature in K, default 1e4)
+ * or mass_msun and mdot_edd (the hole's mass in solar masses and the
+ * accretion rate in Eddington units). Keys of the other model are errors. */
+static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
+                           cr_err *err)
+{
+    cr_yaml_field f[ACC_N] = {OPT("color1"),     OPT("color2"),      OPT("resolution"),
+                              OPT("yaw"),        OPT("radius"),      OPT("model"),
+                              OPT("retrograde"), OPT("temperature"), OPT("inside_isco"),
+                              OPT("mass_msun"),  OPT("mdot_edd")};
+    const char *p = "accretion";
+    char sub[CR_YAML_PATH];
+    yaml_mark_t where;
+
+    if (cr_yaml_fields(y, map, p, key, f, ACC_N, err))
+        return -1;
+    where = key ? key->start_mark : map->start_mark;
+    s->disc_model = CR_DISC_CHESSBOARD;
+    if (f[ACC_MODEL].value) {
+        cr_yaml_path_key(sub, sizeof sub, p, "model");
+        if (get_choice(y, f[ACC_MODEL].value, sub, "disc model", CR_NAMES_DISC_MODEL,
+                       "one of: %s", &s->disc_model, err))
+            return -1;
+    }
+    s->disc_retrograde = 0;
+    s->disc_temperature = 1e4;
+    s->disc_has_r_in = 1;
+    s->disc_plunge = 0;
+    s->disc_mass_msun = s->disc_mdot_edd = 0.0;
+    if (s->disc_model == CR_DISC_KEPLERIAN)
+        return parse_keplerian(y, f, where, p, s, err);
+    return parse_chessboard(y, f, where, p, s, err);
+}
+
+/* dir + name into a new string (dir may be empty). NULL when out of memory. */
+static char *join_path(const char *dir, size_t dir_len, const char *name)
+{
+    size_t n = strlen(name);
+    char *p = malloc(dir_len + n + 1);
+    if (!p)
+        return NULL;
+    memcpy(p, dir, dir_len);
+    memcpy(p + dir_len, name, n + 1);
+    return p;
+}
+
+/* base: the scene file's folder with its trailing '/', "" for the current
+ * folder. */
+static int parse_skymap(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *base,
+                        cr_scene *s, cr_err *err)
+{
+    enum { IMAGE, BOUNDARY, N };
+    cr_yaml_field f[N] = {REQ("image"), OPT("boundary")};
+    const char *p = "skymap", *image;
+    cr_err perr;
+    int inf;
+
+    if (cr_yaml_fields(y, map, p, key, f, N, err) ||
+        cr_yaml_string(y, f[IMAGE].value, "skymap.image", &image, err) ||
+        get_inf(y, f[BOUNDARY].value, "skymap.boundary", "the sky at infinity", &inf, err))
+        return -1;
+    /* omitted or inf: the sky at infinity */
+    s->sky_at_infinity = inf || !f[BOUNDARY].value;
+    if (!s->sky_at_infinity &&
+        field_anim(y, &f[BOUNDARY], p, V_NUMBER, 0.0, &s->sky_boundary, err))
+        return -1;
+    s->sky_image = join_path(image[0] == '/' ? "" : base, image[0] == '/' ? 0 : strlen(base),
+                             image);
+    if (!s->sky_image)
+        return cr_yaml_fail(y, f[IMAGE].value, "skymap.image", err, "out of memory");
+    perr.msg[0] = '\0';
+    if (cr_png_read(s->sky_image, SKY_MAX_PIXELS, &s->sky_rgb, &s->sky_width, &s->sky_height,
+                    &perr)) {
+        s->sky_rgb = NULL;
+        return cr_yaml_fail(y, f[IMAGE].value, "skymap.image", err, "%s",
+                            perr.msg[0] ? perr.msg : "cannot read the image");
+    }
+    s->has_sky = 1;
+    return 0;
+}
+
+static int parse_sphere(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *p,
+                        cr_scene_sphere *sp, cr_err *err)
+{
+    enum { COLOR, RESOLUTION, R, THETA, PHI, ROLL, PITCH, YAW, RADIUS, N };
+    cr_yaml_field f[N] = {REQ("color"), REQ("resolution"), REQ("r"),     REQ("theta"),
+                          REQ("phi"),   OPT("roll"),       OPT("pitch"), OPT("yaw"),
+                          REQ("radius")};
+    memset(sp, 0, sizeof *sp);
+    sp->line = (int)(key ? key->start_mark.line : map->start_mark.line) + 1;
+    if (cr_yaml_fields(y, map, p, key, f, N, err))
+        return -1;
+    if (field_rgb(y, &f[COLOR], p, sp->color, &sp->color, err) ||
+        field_resolution(y, &f[RESOLUTION], p, "a resolution [latitude lines, longitude lines]",
+                         &sp->n_lat, &sp->n_lon, err) ||
+        field_anim(y, &f[R], p, V_NUMBER, 0.0, &sp->r, err) ||
+        field_anim(y, &f[THETA], p, V_ANGLE, 0.0, &sp->theta, err) ||
+        field_anim(y, &f[PHI], p, V_ANGLE, 0.0, &sp->phi, err) ||
+        field_anim(y, &f[ROLL], p, V_ANGLE, 0.0, &sp->roll, err) ||
+        field_anim(y, &f[PITCH], p, V_ANGLE, 0.0, &sp->pitch, err) ||
+        field_anim(y, &f[YAW], p, V_ANGLE, 0.0, &sp->yaw, err) ||
+        field_anim(y, &f[RADIUS], p, V_NUMBER, 0.0, &sp->radius, err))
+        return -1;
+    return 0;
+}
+
+/* Room for one more sphere in s->spheres (*cap entries allocated). */
+static int grow_spheres(cr_scene *s, int *cap)
+{
+    cr_scene_sphere *p;
+    int ncap;
+    if (s->n_spheres < *cap)
+        return 0;
+    if (*cap > (1 << 24))
+        return -1;
+    ncap = *cap ? 2 * *cap : 8;
+    p = realloc(s->spheres, (size_t)ncap * sizeof *p);
+    if (!p)
+        return -1;
+    s->spheres = p;
+    *cap = ncap;
+    return 0;
+}
+
+/* Every `sphere:` section and every item of a `spheres:` list, in file
+ * order. */
+static int parse_spheres(cr_yaml *y, yaml_node_t *root, cr_scene *s, cr_err *err)
+{
+    yaml_node_pair_t *pairs;
+    int np, i, j, cap = 0;
+    char p[CR_YAML_PATH];
+
+    if (cr_yaml_mapping(y, root, NULL, &pairs, &np, err))
+        return -1;
+    for (i = 0; i < np; i++) {
+        yaml_node_t *k = cr_yaml_node(y, pairs[i].key), *v = cr_yaml_node(y, pairs[i].value);
+        if (!k || !v)
+            return cr_yaml_fail(y, root, NULL, err, "damaged YAML document");
+        if (cr_yaml_scalar_is(k, "sphere")) {
+            if (grow_spheres(s, &cap))
+                return cr_yaml_fail(y, k, "sphere", err, "out of memory for spheres");
+            cr_yaml_path_index(p, sizeof p, "sphere", s->n_spheres);
+            if (parse_sphere(y, k, v, p, &s->spheres[s->n_spheres], err))
+                return -1;
+            s->n_spheres++;
+        } else if (cr_yaml_scalar_is(k, "spheres")) {
+            int count;
+            if (cr_yaml_list(y, v, "spheres", -1, "a list of spheres", NULL, &count, err))
+                return -1;
+            for (j = 0; j < count; j++) {
+                yaml_node_t *item = cr_yaml_node(y, v->data.sequence.items.start[j]);
+                if (!item)
+                    return cr_yaml_fail(y, v, "spheres", err, "damaged YAML document");
+                if (grow_spheres(s, &cap))
+                    return cr_yaml_fail(y, item, "spheres", err, "out of memory for spheres");
+                cr_yaml_path_index(p, sizeof p, "spheres", j);
+                if (parse_sphere(y, NULL, item, p, &s->spheres[s->n_spheres], err))
+                    return -1;
+                s->n_spheres++;
+            }
+        }
+    }
+    return 0;
+}
+
+/* Parse text into s (zeroed by the caller); base as for parse_skymap. */
+static int parse_scene(const char *text, size_t len, const char *name, const char *base,
+                       cr_scene *s, cr_err *err)
+{
+    enum {
+        METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, LIMITC, REDSKY, N
+    };
+    cr_yaml_field f[N] = {REQ("metric"),    REQ("observer"),      OPT("accretion"),
+                          OPT("skymap"),    MANY("sphere"),       OPT("spheres"),
+                          OPT("sky_color"), OPT("horizon_color"), OPT("error_color"),
+                          OPT("limit_color"), OPT("redshift_sky")};
+    cr_yaml y;
+    yaml_node_t *root;
+    char got[96];
+
+    if (cr_yaml_load(&y, text, len, name, err))
+        return -1;
+    root = cr_yaml_root(&y);
+    if (!root || cr_yaml_is_null(root)) {
+        cr_err_set(err, "%s: the scene file is empty (it needs at least metric and observer)",
+                   y.name);
+        goto fail;
+    }
+    if (root->type != YAML_MAPPING_NODE) {
+        cr_yaml_describe(root, got, sizeof got);
+        cr_yaml_fail(&y, root, NULL, err,
+                     "a scene must be a mapping of keys (metric, observer, ...), got %s", got);
+        goto fail;
+    }
+    if (cr_yaml_fields(&y, root, NULL, NULL, f, N, err))
+        goto fail;
+    if (parse_metric(&y, f[METRIC].key_node, f[METRIC].value, s, err) ||
+        parse_observer(&y, f[OBSERVER].key_node, f[OBSERVER].value, s, err))
+        goto fail;
+    if (f[ACCRETION].value &&
+        parse_accretion(&y, f[ACCRETION].key_node, f[ACCRETION].value, s, err))
+        goto fail;
+    if (parse_spheres(&y, root, s, err))
+        goto fail;
+    if (field_rgb(&y, &f[SKY], NULL, RGB(0, 0, 0), &s->sky_color, err) ||
+        field_rgb(&y, &f[HORIZON], NULL, RGB(255, 0, 0), &s->horizon_color, err) ||
+        field_rgb(&y, &f[ERRC], NULL, RGB(0, 0, 255), &s->error_color, err) ||
+        field_rgb(&y, &f[LIMITC], NULL, RGB(255, 255, 0), &s->limit_color, err) ||
+        (f[REDSKY].value &&
+         cr_yaml_bool(&y, f[REDSKY].value, "redshift_sky", &s->redshift_sky, err)))
+        goto fail;
+    /* last: the image is the slow part */
+    if (f[SKYMAP].value &&
+        parse_skymap(&y, f[SKYMAP].key_node, f[SKYMAP].value, base, s, err))
+        goto fail;
+    cr_yaml_free(&y);
+    return 0;
+fail:
+    cr_yaml_free(&y);
+    return -1;
+}
+
+static char *dup_string(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *p = malloc(n);
+    if (p)
+        memcpy(p, s, n);
+    return p;
+}
+
+/* Common part of both loaders. */
+static int scene_load(const char *text, size_t len, const char *name, const char *base,
+                      cr_scene *out, cr_err *err)
+{
+    cr_scene s;
+    memset(&s, 0, sizeof s);
+    memset(out, 0, sizeof *out);
+    s.path = dup_string(name);
+    if (!s.path) {
+        cr_err_set(err, "%s: out of memory", name);
+        goto fail;
+    }
+    if (parse_scene(text, len, name, base, &s, err))
+        goto fail;
+    *out = s;
+    return 0;
+fail:
+    cr_scene_free(&s);
+    return -1;
+}
+
+int cr_scene_load(const char *path, cr_scene *out, cr_err *err)
+{
+    char *text = NULL, *base = NULL;
+    const char *slash;
+    size_t len;
+    int rc = -1;
+
+    memset(out, 0, sizeof *out);
+    if (!path || !path[0])
+        return cr_err_set(err, "no scene file given");
+    if (cr_yaml_read_file(path, (size_t)SCENE_MAX_BYTES, &text, &len, err))
+        return -1;
+    slash = strrchr(path, '/');
+    base = malloc(slash ? (size_t)(slash - path) + 2 : 1);
+    if (!base) {
+        cr_err_set(err, "%s: out of memory", path);
+        goto done;
+    }
+    if (slash) {
+        memcpy(base, path, (size_t)(slash - path) + 1);
+        base[slash - path + 1] = '\0';
+    } else {
+        base[0] = '\0';
+    }
+    rc = scene_load(text, len, path, base, out, err);
+done:
+    free(base);
+    free(text);
+    return rc;
+}
+
+int cr_scene_load_string(const char *text, size_t len, const char *name, cr_scene *out,
+                         cr_err *err)
+{
+    return scene_load(text, len, name ? name : "(scene)", "", out, err);
+}
+
+void cr_scene_free(cr_scene *s)
+{
+    if (!s)
+        return;
+    free(s->path);
+    free(s->sky_image);
+    free(s->sky_rgb);
+    free(s->spheres);
+    memset(s, 0, sizeof *s);
+}
