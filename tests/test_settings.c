@@ -11,8 +11,10 @@
  *   its line, and by the frame check with a message naming the key;
  * - info.txt shows every setting, in info_pos order, after "CPU threads";
  * - info_pos and hash_pos each number the lines 0 .. n-1 once, and the run
- *   hash text of the defaults is the text that older runs hashed (so their
- *   --resume still matches).
+ *   hash text is the text that older runs hashed (so their --resume still
+ *   matches); every setting that differs from the hashed ones changes it,
+ *   and one added later (hash_pos >= CR_SETTINGS_HASHED_ALWAYS) leaves it
+ *   unchanged at its default.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -181,6 +183,25 @@ static void test_hash_text(void **state)
     /* a short buffer: cut, terminated, the full length returned */
     assert_int_equal(cr_trace_settings_hash_text(&t, got, 10), (int)strlen(want));
     assert_int_equal(strlen(got), 9);
+    /* settings added after the first hashed runs: absent at their defaults */
+    {
+        cr_trace_settings d = cr_trace_defaults();
+        char def_text[512];
+        int n_always = 0;
+        cr_trace_settings_hash_text(&d, def_text, sizeof def_text);
+        for (int i = 0; i < cr_settings_count; i++)
+            n_always += cr_settings[i].hash_pos < CR_SETTINGS_HASHED_ALWAYS;
+        assert_int_equal(n_always, CR_SETTINGS_HASHED_ALWAYS);
+        for (int pos = 0; pos < CR_SETTINGS_HASHED_ALWAYS; pos++)
+            assert_non_null(strstr(def_text, cr_setting_in_order(CR_SETTING_HASH_ORDER,
+                                                                 pos)->hash_word));
+        for (int pos = CR_SETTINGS_HASHED_ALWAYS; pos < cr_settings_count; pos++) {
+            char w[80];
+            snprintf(w, sizeof w, " %s ",
+                     cr_setting_in_order(CR_SETTING_HASH_ORDER, pos)->hash_word);
+            assert_null(strstr(def_text, w));
+        }
+    }
     /* every setting changes the text */
     for (int i = 0; i < cr_settings_count; i++) {
         cr_trace_settings u = t;

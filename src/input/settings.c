@@ -170,6 +170,15 @@ void cr_setting_format(const cr_setting *s, const cr_trace_settings *ts, char *b
         snprintf(buf + k, n - (size_t)k, " (%s only, unused)", cr_integrator_name(s->integrator));
 }
 
+/* Does s have its default value in ts? */
+static int setting_is_default(const cr_setting *s, const cr_trace_settings *ts)
+{
+    cr_trace_settings d = cr_trace_defaults();
+    if (s->type == CR_SETTING_REAL)
+        return cr_setting_real(s, ts) == cr_setting_real(s, &d);
+    return cr_setting_int(s, ts) == cr_setting_int(s, &d);
+}
+
 int cr_trace_settings_hash_text(const cr_trace_settings *ts, char *buf, size_t n)
 {
     size_t len = 0;
@@ -179,12 +188,14 @@ int cr_trace_settings_hash_text(const cr_trace_settings *ts, char *buf, size_t n
         int k;
         if (!s)
             continue;
+        if (pos >= CR_SETTINGS_HASHED_ALWAYS && setting_is_default(s, ts))
+            continue;
         if (s->type == CR_SETTING_REAL)
             snprintf(v, sizeof v, "%.17g", cr_setting_real(s, ts));
         else
             snprintf(v, sizeof v, "%ld", cr_setting_int(s, ts));
         k = snprintf(len < n ? buf + len : NULL, len < n ? n - len : 0, "%s%s %s",
-                     pos ? " " : "", s->hash_word, v);
+                     len ? " " : "", s->hash_word, v);
         if (k > 0)
             len += (size_t)k;
     }

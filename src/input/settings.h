@@ -118,10 +118,15 @@ int cr_trace_settings_check(const cr_trace_settings *ts, char *msg, size_t n);
  * "3 x 3 per pixel", "1e-07 (mino only, unused)"). */
 void cr_setting_format(const cr_setting *s, const cr_trace_settings *ts, char *buf, size_t n);
 
+/* The settings that the first hashed runs had (hash_pos below this): always
+ * in the run hash text. A setting added later enters it only when it is not
+ * at its default, so that a run begun before it existed still resumes. */
+#define CR_SETTINGS_HASHED_ALWAYS 7
+
 /* The settings' part of the run hash text: "hash_word value" for each
- * setting in hash_pos order, separated by single blanks (values with %.17g,
- * %d or %ld, so equal text means equal settings). Returns the length
- * snprintf would write. */
+ * setting in hash_pos order (CR_SETTINGS_HASHED_ALWAYS), separated by single
+ * blanks (values with %.17g or %ld, so equal text means equal settings).
+ * Returns the length snprintf would write (the text is cut to n - 1). */
 int cr_trace_settings_hash_text(const cr_trace_settings *ts, char *buf, size_t n);
 
 #endif
