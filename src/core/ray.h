@@ -91,6 +91,25 @@ CR_HD static inline int cr_ray_long_steps(const cr_ray *ray)
     return ray->kind == CR_INTEG_MINO;
 }
 
+/* Points per step that a path recorder (path.h, cr_path.sub) draws for the
+ * integrator of frame f: the step's end plus dense-output points inside it.
+ * Mino steps are long (tens per ray), so 8 points a step draw a smooth
+ * curve; RK4 steps are short (hundreds to thousands per ray): 1. */
+#define CR_RAY_PATH_SUB_MINO 8
+#define CR_RAY_PATH_SUB_RK4 1
+CR_HD static inline int cr_ray_path_sub(const cr_frame *f)
+{
+    return f->integrator == CR_INTEG_MINO ? CR_RAY_PATH_SUB_MINO : CR_RAY_PATH_SUB_RK4;
+}
+
+/* Whether the integrator (cr_integrator) can start a ray from the observer
+ * at infinity: Mino only (cr_ray_mino_start, w = 0); RK4's BL state needs a
+ * finite r. */
+CR_HD static inline int cr_ray_starts_at_infinity(int integrator)
+{
+    return integrator == CR_INTEG_MINO;
+}
+
 /* The state at fraction s in [0, 1] of the current step. */
 CR_HD static inline void cr_ray_state_at(const cr_ray *ray, double s, double *ys)
 {

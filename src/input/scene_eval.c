@@ -14,6 +14,7 @@
 #include "../core/disc.h"   /* cr_disc_keplerian_prepare */
 #include "../core/frame.h"  /* cr_frame_prepare, units of M */
 #include "../core/orbit.h"  /* cr_orbit_*, CR_FLUX_MIN_GAP */
+#include "../core/ray.h"    /* cr_ray_starts_at_infinity */
 #include "../core/sphere.h" /* cr_sphere_prepare */
 #include "names.h"
 
@@ -400,7 +401,7 @@ static int frame_settings(const cr_scene *s, int k, int n, const cr_trace_settin
         t.samples = 1;
     if (cr_trace_settings_check(&t, msg, sizeof msg))
         return frame_fail(err, s, k, n, "%s", msg);
-    if (s->obs_at_infinity && t.integrator == CR_INTEG_RK4)
+    if (s->obs_at_infinity && !cr_ray_starts_at_infinity(t.integrator))
         return frame_fail(err, s, k, n,
                           "raytracer.integrator = %s: the rk4 integrator cannot start at "
                           "infinity (observer.r: inf); use mino, or give observer.r a finite "

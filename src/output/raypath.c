@@ -28,7 +28,7 @@ int cr_raypath_trace(const cr_frame *f, int i, int j, cr_raypath *out, cr_err *e
         out->pts = buf;
         path.pts = buf;
         path.cap = cap;
-        path.sub = f->integrator == CR_INTEG_MINO ? CR_RAYPATH_SUB_MINO : CR_RAYPATH_SUB_RK4;
+        path.sub = cr_ray_path_sub(f);
         out->px = cr_trace_pixel_path(f, i, j, &path);
         if (path.n <= cap)
             break;

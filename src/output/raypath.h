@@ -11,11 +11,7 @@
 #include "../core/trace.h"
 #include "../base/error.h"
 
-/* Points per integrator step: the step's end plus dense-output points inside
- * it. Mino steps are long (tens per ray), so 8 points a step draw a smooth
- * curve; rk4 steps are short (hundreds to thousands per ray): 1. */
-#define CR_RAYPATH_SUB_MINO 8
-#define CR_RAYPATH_SUB_RK4 1
+/* Points per integrator step: cr_ray_path_sub (ray.h). */
 
 typedef struct cr_raypath {
     double *pts; /* n points of CR_PN columns (trace.h CR_P_*), malloc'ed */
