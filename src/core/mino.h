@@ -30,6 +30,9 @@
  *   pr, the rest of phi: dpr/dtau = a E - a P/Delta = a w (-2ME + (E Q^2 - aL) w) / D(w),
  *     D = Delta/r^2 = 1 - 2Mw + (a^2+Q^2) w^2, regular outside the horizon.
  * The BL azimuth is phi = atan2(n_y, n_x) + pr, and theta = acos(n_z/|n|).
+ * The same state and right-hand side carry a massive, charged particle
+ * (particle.h): its R gains an r^3 term (c3), a^2 E^2 becomes a^2 (E^2 - 1)
+ * and p1 a charge term; the DP5 below integrates both.
  * Coordinate time t (which diverges at w = 0) is not integrated.
  *
  * Conserved-quantity monitor (cr_mino_monitor): the larger of
@@ -60,7 +63,9 @@ enum {
 typedef struct cr_mino {
     double E, L, eta;      /* geodesic.h convention; eta = Carter constant */
     double a;              /* spin */
-    double c4, c2, c1, c0; /* W(w) = c4 + c2 w^2 + c1 w^3 + c0 w^4 */
+    double c4, c2, c1, c0; /* W(w) = c4 + c3 w + c2 w^2 + c1 w^3 + c0 w^4 */
+    double c3;             /* 0 for light; the r^3 term of R of a massive or
+                              charged particle (particle.h) */
     double kap;            /* eta + L^2 */
     double a2E2;           /* a^2 E^2 */
     double p1, p2;         /* dpr/dtau = a w (p1 + p2 w) / D(w) */
@@ -84,6 +89,7 @@ CR_HD static inline void cr_mino_init(cr_mino *c, const cr_metric *mt, double E,
     c->eta = eta;
     c->a = a;
     c->c4 = E * E;
+    c->c3 = 0.0;
     c->c2 = 2.0 * E * a * aEL - C;
     c->c1 = 2.0 * M * C;
     c->c0 = a * a * aEL * aEL - (a * a + Q2) * C;
@@ -104,7 +110,7 @@ CR_HD static inline void cr_mino_init(cr_mino *c, const cr_metric *mt, double E,
 CR_HD static inline double cr_mino_W(const cr_mino *c, double w)
 {
     double w2 = w * w;
-    return c->c4 + w2 * (c->c2 + w * (c->c1 + w * c->c0));
+    return c->c4 + w * c->c3 + w2 * (c->c2 + w * (c->c1 + w * c->c0));
 }
 
 /* Th(u) = (du/dtau)^2 on the ray. */
@@ -123,7 +129,7 @@ CR_HD static inline void cr_mino_rhs(const cr_mino *c, const double *y, double *
     if (D < c->d_min)
         D = c->d_min;
     dy[CR_M_W] = y[CR_M_DW];
-    dy[CR_M_DW] = w * (c->c2 + w * (1.5 * c->c1 + 2.0 * c->c0 * w));
+    dy[CR_M_DW] = 0.5 * c->c3 + w * (c->c2 + w * (1.5 * c->c1 + 2.0 * c->c0 * w));
     dy[CR_M_NX] = y[CR_M_DNX];
     dy[CR_M_NY] = y[CR_M_DNY];
     dy[CR_M_NZ] = y[CR_M_DNZ];
@@ -138,7 +144,7 @@ CR_HD static inline double cr_mino_monitor(const cr_mino *c, const double *y)
 {
     double w = y[CR_M_W], w2 = w * w, dw = y[CR_M_DW];
     double u = y[CR_M_NZ], u2 = u * u, du = y[CR_M_DNZ];
-    double sr = dw * dw + c->c4 + w2 * (fabs(c->c2) + fabs(w) * (fabs(c->c1) + fabs(w * c->c0)));
+    double sr = dw * dw + fabs(c->c4) + fabs(w * c->c3) + w2 * (fabs(c->c2) + fabs(w) * (fabs(c->c1) + fabs(w * c->c0)));
     double st = du * du + c->omega * c->omega + fabs(c->eta) +
                 u2 * (fabs(c->kap - c->a2E2) + c->a2E2 * u2);
     double er = sr > 0.0 ? fabs(dw * dw - cr_mino_W(c, w)) / sr : 0.0;
