@@ -32,6 +32,48 @@ static void test_answer(void **state)
     assert_false(cr_cli_answer_yes("q\n"));
 }
 
+/* A fake environment for cr_cli_mpi_launched: "NAME=value" pairs. */
+static const char *const *fake_env;
+static const char *fake_getenv(const char *name)
+{
+    size_t n = strlen(name);
+    for (const char *const *e = fake_env; *e; e++)
+        if (strncmp(*e, name, n) == 0 && (*e)[n] == '=')
+            return *e + n + 1;
+    return NULL;
+}
+
+static int launched(const char *const *env, char *why)
+{
+    fake_env = env;
+    why[0] = '\0';
+    return cr_cli_mpi_launched(fake_getenv, why, 96);
+}
+
+/* Started by an MPI launcher as one of several processes: the size from
+ * Open MPI, MPICH/Intel/srun PMI or MVAPICH2, or a rank above 0 alone. */
+static void test_mpi_launched(void **state)
+{
+    char why[96];
+    (void)state;
+    assert_int_equal(launched((const char *const[]){NULL}, why), 0);
+    assert_int_equal(launched((const char *const[]){"OMPI_COMM_WORLD_SIZE=1", NULL}, why), 0);
+    assert_int_equal(launched((const char *const[]){"OMPI_COMM_WORLD_SIZE=4", NULL}, why), 4);
+    assert_string_equal(why, "OMPI_COMM_WORLD_SIZE=4");
+    assert_int_equal(launched((const char *const[]){"PMI_SIZE=2", "PMI_RANK=1", NULL}, why), 2);
+    assert_string_equal(why, "PMI_SIZE=2");
+    assert_int_equal(launched((const char *const[]){"MV2_COMM_WORLD_SIZE=3", NULL}, why), 3);
+    assert_int_equal(launched((const char *const[]){"PMIX_RANK=0", NULL}, why), 0);
+    assert_int_equal(launched((const char *const[]){"PMIX_RANK=5", NULL}, why), -1);
+    assert_string_equal(why, "PMIX_RANK=5");
+    assert_int_equal(launched((const char *const[]){"PMI_SIZE=1", "PMI_RANK=0", NULL}, why), 0);
+    /* not numbers: not a launcher's */
+    assert_int_equal(launched((const char *const[]){"PMI_SIZE=", "OMPI_COMM_WORLD_SIZE=x2",
+                                                     "PMIX_RANK=-3", NULL},
+                              why),
+                     0);
+}
+
 static int parse_threads(const char *value, cr_cli *c, cr_err *err)
 {
     char *argv[] = {"curray", "--threads", (char *)value, NULL};
@@ -156,6 +198,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_answer),
+        cmocka_unit_test(test_mpi_launched),
         cmocka_unit_test(test_threads_limit),
         cmocka_unit_test(test_glued_value),
         cmocka_unit_test(test_bool_values),

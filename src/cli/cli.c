@@ -342,3 +342,38 @@ int cr_cli_answer_yes(const char *line)
         line++;
     return *line == '\0' || *line == 'y' || *line == 'Y';
 }
+
+/* A variable's value as a whole decimal number >= 0, else -1. */
+static long cr_env_count(const char *v)
+{
+    char *end;
+    long n;
+    if (!v || !*v)
+        return -1;
+    errno = 0;
+    n = strtol(v, &end, 10);
+    return (errno || *end || n < 0) ? -1 : n;
+}
+
+int cr_cli_mpi_launched(const char *(*env)(const char *), char *why, size_t n)
+{
+    static const char *const sizes[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE",
+                                        "MV2_COMM_WORLD_SIZE"};
+    static const char *const ranks[] = {"PMIX_RANK", "PMI_RANK"};
+    size_t i;
+    for (i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
+        long k = cr_env_count(env(sizes[i]));
+        if (k > 1) {
+            snprintf(why, n, "%s=%s", sizes[i], env(sizes[i]));
+            return k > 1000000000L ? 1000000000 : (int)k;
+        }
+    }
+    for (i = 0; i < sizeof ranks / sizeof ranks[0]; i++) {
+        long k = cr_env_count(env(ranks[i]));
+        if (k > 0) {
+            snprintf(why, n, "%s=%s", ranks[i], env(ranks[i]));
+            return -1;
+        }
+    }
+    return 0;
+}

@@ -46,4 +46,13 @@ void cr_cli_usage(const char *prog, FILE *out);
  * "Yes\n"), 0 for anything else. */
 int cr_cli_answer_yes(const char *line);
 
+/* Was this process started by an MPI launcher (mpirun, mpiexec, srun with
+ * PMI) as one of several? env reads the environment (getenv). Looks at
+ * OMPI_COMM_WORLD_SIZE (Open MPI), PMI_SIZE (MPICH, Intel MPI, srun's PMI-2),
+ * MV2_COMM_WORLD_SIZE (MVAPICH2), and PMIX_RANK / PMI_RANK above 0 (a
+ * launcher that sets only ranks). Returns the number of processes (2 or
+ * more; -1 when only a rank above 0 tells) with the variable that says so
+ * in why[0..n), or 0 (none, or a size of 1). */
+int cr_cli_mpi_launched(const char *(*env)(const char *), char *why, size_t n);
+
 #endif

@@ -158,6 +158,9 @@ static int cr_finish_frame(cr_run *run, int slot, int device, int k, const cr_fr
         if (st->counts[CR_OUT_OUTSIDE] > 0) /* fisheye pixels beyond the image circle */
             cr_log_detail(&run->log, "frame %d: %lld pixels outside the fisheye's image circle "
                           "(black, not traced)", k, st->counts[CR_OUT_OUTSIDE]);
+        if (st->counts[CR_OUT_ERROR] > 0)
+            cr_log_info(&run->log, "curray: warning: frame %d: %lld of %lld rays %s", k,
+                        st->counts[CR_OUT_ERROR], st->rays, CR_INFO_ERROR_ADVICE);
         if (st->counts[CR_OUT_LIMIT] > 0)
             cr_log_info(&run->log, "curray: warning: frame %d: %lld rays %s", k,
                         st->counts[CR_OUT_LIMIT], CR_INFO_LIMIT_ADVICE);

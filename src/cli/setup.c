@@ -26,6 +26,39 @@ static int cr_prog_is_cpu(const char *argv0)
     return strcmp(base, "curray_cpu") == 0;
 }
 
+#ifndef CURRAY_MPI
+static const char *cr_getenv(const char *name)
+{
+    return getenv(name);
+}
+#endif
+
+/* A curray built without MPI that an MPI launcher started as one of several
+ * processes (cr_cli_mpi_launched) would render the whole run in each of
+ * them, into the same folder: refuse (1), pointing to curray_mpi. One
+ * process (a size of 1) is fine (0). curray_mpi itself is started that way. */
+static int cr_refuse_mpi_launch(const char *argv0)
+{
+#ifdef CURRAY_MPI
+    (void)argv0;
+    return 0;
+#else
+    char why[96], many[32] = "several";
+    int n = cr_cli_mpi_launched(cr_getenv, why, sizeof why);
+    if (n == 0)
+        return 0;
+    if (n > 1)
+        snprintf(many, sizeof many, "%d", n);
+    fprintf(stderr,
+            "curray: %s was started by an MPI launcher as one of %s processes (%s), but it is "
+            "built without MPI: each would render the whole run into the same folder. Under "
+            "mpirun or srun start curray_mpi instead (mpirun -np %s curray_mpi ..., built when "
+            "CMake finds MPI; see docs/clusters.md), or start it once, without the launcher\n",
+            argv0, many, why, n > 1 ? many : "N");
+    return 1;
+#endif
+}
+
 /* Parse the command line and answer -h, --version and -i. Returns -1 when
  * the program should end now with *rc, else 0 (a render follows). */
 int cr_command_line(cr_run *run, int *rc)
@@ -60,6 +93,10 @@ int cr_command_line(cr_run *run, int *rc)
     if (cr_cli_check_render(&run->cli, &err)) {
         fprintf(stderr, "curray: %s\n", err.msg);
         *rc = CR_EXIT_USAGE;
+        return -1;
+    }
+    if (cr_refuse_mpi_launch(run->argv[0])) {
+        *rc = CR_EXIT_ERROR;
         return -1;
     }
     if (run->cli.trace)

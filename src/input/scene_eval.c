@@ -176,6 +176,33 @@ static int frame_motion(const cr_scene *s, int k, int n, const cr_metric *mt,
     return 0;
 }
 
+/* The largest image plane at infinity, in units of M: a pixel's impact
+ * parameter b enters the ray's constants squared (b^2 overflows doubles from
+ * 1.3e154 M), so every ray of a wider plane would end in error. At 1e150 M
+ * the corner of a square plane still leaves a margin of 10^8 in b^2. */
+#define CR_MAX_EXTENT 1e150
+/* The farthest observer at a finite r, in units of M: the Mino integrator's
+ * right-hand side holds r^4 ((r^2 + a^2)^2), which overflows from 1.3e77 M. */
+#define CR_MAX_OBS_R 1e75
+
+static int extent_fail(const cr_scene *s, int k, int n, double m, const cr_observer *o,
+                       cr_err *err)
+{
+    char b[32], vb[32], in_m[96] = "";
+    int h = !(o->hextent <= CR_MAX_EXTENT * m);
+    double v = h ? o->hextent : o->vextent;
+    if (m != 1.0)
+        snprintf(in_m, sizeof in_m, " (%s M with metric.m = %g)", num_vs(b, v / m, CR_MAX_EXTENT),
+                 m);
+    return frame_fail(err, s, k, n,
+                      "observer.%s = %s%s%s: the image plane at infinity may be at most %g M "
+                      "%s (the squared impact parameter of a wider one overflows, and every "
+                      "pixel would be an error ray)%s",
+                      h ? "hextent" : "vextent", num_vs(vb, v, CR_MAX_EXTENT * m), !h && !s->has_vextent ? " (hextent x height / width)" : "",
+                      in_m, CR_MAX_EXTENT, h ? "wide" : "high",
+                      !h && !s->has_vextent ? "; use a smaller hextent or a wider image" : "");
+}
+
 static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, int width,
                           int height, cr_observer *o, cr_err *err)
 {
@@ -214,6 +241,8 @@ static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, 
                               "observer.vextent = %g%s: the height of the image plane must be "
                               "positive and finite",
                               o->vextent, s->has_vextent ? "" : " (hextent x height / width)");
+        if (!(o->hextent <= CR_MAX_EXTENT * mt->m) || !(o->vextent <= CR_MAX_EXTENT * mt->m))
+            return extent_fail(s, k, n, mt->m, o, err);
         return 0;
     }
     rp = cr_metric_r_plus(mt);
@@ -227,6 +256,18 @@ static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, 
                           "observer.r = %g with metric.m = %g is out of the range curray can "
                           "compute with (lengths are in units of M: keep r/M and M sensible)",
                           o->r, mt->m);
+    if (o->r > CR_MAX_OBS_R * mt->m) {
+        char b[32], rb[32], in_m[96] = "";
+        if (mt->m != 1.0)
+            snprintf(in_m, sizeof in_m, " (%s M with metric.m = %g)",
+                     num_vs(b, o->r / mt->m, CR_MAX_OBS_R), mt->m);
+        return frame_fail(err, s, k, n,
+                          "observer.r = %s%s: an observer at a finite r may be at most %g M "
+                          "from the hole (the integration's powers of r overflow beyond about "
+                          "1e77 M, and every pixel would be an error ray); for a distant "
+                          "observer use r: inf with hextent",
+                          num_vs(rb, o->r, CR_MAX_OBS_R * mt->m), in_m, CR_MAX_OBS_R);
+    }
     if (o->motion == CR_MOTION_STATIC && (o->r <= re || !(mgtt > 0.0)))
         return frame_fail(err, s, k, n,
                           "observer.r = %g at theta = %g deg is inside the ergosphere "
@@ -294,6 +335,14 @@ static int frame_disc(const cr_scene *s, int k, int n, cr_disc *d, cr_err *err)
     return 0;
 }
 
+/* The Keplerian disc's largest outer radius, in units of M. The flux table
+ * (cr_flux_table_fill) spans [r_in, r_out] with 128 nodes and finds the
+ * flux peak by 100 golden-section steps over the whole span: up to 1e15 M
+ * its peak is exact to 1e-15 and F to 1e-4 of the peak (a = 0.9; 1e-6 at
+ * 1e5 M), from about 1e20 M the search misses the peak (the temperature
+ * scale is wrong), and from about 4e68 M the integral overflows. */
+#define CR_KEPLER_MAX_R_OUT 1e15
+
 /* Message "what" into why[0..n), for cr_scene_keplerian. */
 static int keplerian_fail(char *why, size_t n, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -341,7 +390,15 @@ int cr_scene_keplerian(const cr_scene *s, const cr_metric *mt, double m, cr_disc
                               "the inner radius out (radius: [outer]) or put it at or inside "
                               "the ISCO",
                               sense, risco * m, d->r_in * m);
-    if (cr_disc_keplerian_prepare(d, mt) != 0)
+    if (!(d->r_out <= CR_KEPLER_MAX_R_OUT))
+        return keplerian_fail(why, n,
+                              "accretion.radius: the outer radius %g%s of the keplerian disc "
+                              "may be at most %g M (the disc's flux table cannot resolve the "
+                              "flux peak over a longer span; a real disc's light comes from "
+                              "within a few hundred M)",
+                              d->r_out * m, m == 1.0 ? "" : " (in units of metric.m)",
+                              CR_KEPLER_MAX_R_OUT);
+    if (!(fmax(d->r_in, risco) - cr_orbit_r_photon(mt, d->sense) >= CR_FLUX_MIN_GAP))
         return keplerian_fail(why, n,
                               "accretion: metric.a = %g, metric.q = %g are too close to an "
                               "extremal hole for the keplerian disc: its %s ISCO (%g) lies "
@@ -349,6 +406,19 @@ int cr_scene_keplerian(const cr_scene *s, const cr_metric *mt, double m, cr_disc
                               "resolve the flux peak there; use a spin up to about 0.9999 M "
                               "(Thorne's limit is 0.998 M)",
                               mt->a * m, mt->q * m, sense, risco * m, (double)CR_FLUX_MIN_GAP);
+    if (cr_disc_keplerian_prepare(d, mt) != 0) { /* none of the above: no known cause */
+        char lum[96];
+        if (d->mass_msun > 0.0)
+            snprintf(lum, sizeof lum, "mass_msun = %g, mdot_edd = %g", d->mass_msun, d->mdot_edd);
+        else
+            snprintf(lum, sizeof lum, "temperature = %g", d->t_peak);
+        return keplerian_fail(why, n,
+                              "accretion: the keplerian disc cannot be computed for radius "
+                              "[%g, %g] around metric.a = %g, metric.q = %g with %s (a value "
+                              "is not a finite number); bring these values closer to those of "
+                              "the shipped keplerian scenes",
+                              d->r_in * m, d->r_out * m, mt->a * m, mt->q * m, lum);
+    }
     return 0;
 }
 

@@ -363,9 +363,11 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
 }
 
 /* The optional number of field f of section path into *out when present:
- * finite and > 0, else an error naming the key that says what it is. */
+ * finite and > 0, within [lo, hi], else an error naming the key that says
+ * what it is and why. */
 static int positive_number(cr_yaml *y, const cr_yaml_field *f, const char *path,
-                           const char *what, const char *unit, double *out, cr_err *err)
+                           const char *what, const char *unit, double lo, double hi,
+                           const char *why, double *out, cr_err *err)
 {
     char sub[CR_YAML_PATH];
     if (!f->value)
@@ -376,8 +378,19 @@ static int positive_number(cr_yaml *y, const cr_yaml_field *f, const char *path,
     if (!(*out > 0.0) || !isfinite(*out))
         return cr_yaml_fail(y, f->value, sub, err, "%s must be positive (%s), got %g", what,
                             unit, *out);
+    if (!(*out >= lo && *out <= hi))
+        return cr_yaml_fail(y, f->value, sub, err, "%s must lie between %g and %g %s (%s), got %g",
+                            what, lo, hi, unit, why, *out);
     return 0;
 }
+
+/* Ranges of the Keplerian disc's brightness keys: the temperature scale
+ * T_peak / F_max^(1/4) overflows above about 1e307 K, and the SI
+ * computation from the mass and rate ((G M)^2, c^6 Mdot) leaves the range of
+ * doubles outside about 1e-150 .. 1e150 of either. */
+#define CR_KEPLER_MAX_TEMPERATURE 1e300
+#define CR_KEPLER_SI_MIN 1e-100
+#define CR_KEPLER_SI_MAX 1e100
 
 /* The keys of accretion, indexed by accretion_key. The chessboard's come
  * first (COLOR1 .. YAW), the Keplerian disc's last (RETRO .. MDOT), so that
@@ -462,11 +475,16 @@ static int parse_keplerian_luminosity(cr_yaml *y, const cr_yaml_field *f, const 
                                   "(the hole's mass in solar masses and the accretion rate "
                                   "in Eddington units); give both");
     }
-    return positive_number(y, &f[ACC_TEMP], p, "the peak temperature", "kelvin",
-                           &s->disc_temperature, err) ||
+    return positive_number(y, &f[ACC_TEMP], p, "the peak temperature", "kelvin", 0.0,
+                           CR_KEPLER_MAX_TEMPERATURE, "the disc's temperature scale overflows "
+                           "above that", &s->disc_temperature, err) ||
                    positive_number(y, &f[ACC_MASS], p, "the hole's mass", "solar masses",
+                                   CR_KEPLER_SI_MIN, CR_KEPLER_SI_MAX, "the temperature is "
+                                   "computed from it in SI units, in doubles",
                                    &s->disc_mass_msun, err) ||
                    positive_number(y, &f[ACC_MDOT], p, "the accretion rate", "Eddington units",
+                                   CR_KEPLER_SI_MIN, CR_KEPLER_SI_MAX, "the temperature is "
+                                   "computed from it in SI units, in doubles",
                                    &s->disc_mdot_edd, err)
                ? -1
                : 0;

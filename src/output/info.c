@@ -294,6 +294,9 @@ static void cr_info_frame(FILE *fp, int k, const cr_frame_stats *st)
     if (st->counts[CR_OUT_NONE])
         fprintf(fp, ", not traced %lld", st->counts[CR_OUT_NONE]);
     fprintf(fp, "\n");
+    if (st->counts[CR_OUT_ERROR] > 0)
+        fprintf(fp, "  %-22s %lld of %lld rays %s\n", "warning", st->counts[CR_OUT_ERROR],
+                st->rays, CR_INFO_ERROR_ADVICE);
     if (st->counts[CR_OUT_LIMIT] > 0)
         fprintf(fp, "  %-22s %lld rays: %s\n", "warning", st->counts[CR_OUT_LIMIT],
                 CR_INFO_LIMIT_ADVICE);

@@ -31,6 +31,14 @@
     "(yellow by default), not traced to the end; raise those limits (rays that orbit the "     \
     "photon sphere need more turns), or with integrator: rk4 use integrator: mino"
 
+/* What info.txt and the console say after the count of rays that ended in
+ * error (outcome "error": the integration met a value that is not a finite
+ * number; painted in the scene's error_color). */
+#define CR_INFO_ERROR_ADVICE                                                                   \
+    "ended in error (the integration met a number that is not finite) and are painted in "   \
+    "error_color (blue by default): their pixels show no object and their CSV values are "    \
+    "not valid; lengths far from M (observer, image plane, objects) can cause it"
+
 /* Statistics of one rendered frame, for info.txt and the console. */
 typedef struct cr_frame_stats {
     double seconds;                       /* wall time of the tracing */

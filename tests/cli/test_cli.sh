@@ -269,6 +269,10 @@ scene "observer theta outside 0..180" 1 "observer.theta = 200 deg lies outside 0
     "$MET"$'observer: {r: 20, theta: 200, phi: 0, hfov: 60}\n'
 scene "observer too far out for doubles" 1 "observer.r = 1e+160 with metric.m = 1 is out of the range" \
     "$MET"$'observer: {r: 1e160, theta: 90, phi: 0, hfov: 60}\n'
+scene "observer beyond 1e75 M" 1 "observer.r = 1e+100: an observer at a finite r may be at most 1e+75 M from the hole (the integration's powers of r overflow beyond about 1e77 M, and every pixel would be an error ray); for a distant observer use r: inf with hextent" \
+    "$MET"$'observer: {r: 1e100, theta: 90, phi: 0, hfov: 60}\n'
+scene "observer beyond 1e75 M, in units of M" 1 "observer.r = 3e+75 (1.5e+75 M with metric.m = 2): an observer at a finite r may be at most 1e+75 M" \
+    $'metric: {m: 2, a: 0, q: 0}\nobserver: {r: 3e75, theta: 90, phi: 0, hfov: 60}\n'
 scene "hfov 180" 1 "observer.hfov = 180 deg: a field of view must lie between 0 and 180 deg" \
     "$MET"$'observer: {r: 20, theta: 90, phi: 0, hfov: 180}\n'
 scene "hfov 0" 1 "observer.hfov = 0 deg: a field of view must lie between 0 and 180 deg" \
@@ -293,6 +297,23 @@ scene "keplerian retrograde ISCO beyond r_out" 1 "accretion.radius: the retrogra
     $'metric: {m: 1, a: 0.9, q: 0}\nobserver: {r: 20, theta: 90, phi: 0, hfov: 60}\naccretion: {model: keplerian, radius: [3, 8], retrograde: true}\n'
 scene "keplerian near-extremal spin" 1 "too close to an extremal hole for the keplerian disc" \
     $'metric: {m: 1, a: 0.999999, q: 0}\nobserver: {r: 20, theta: 90, phi: 0, hfov: 60}\naccretion: {model: keplerian, radius: [20]}\n'
+# the key at fault, not the spin (a = 0 is far from extremal)
+scene "keplerian outer radius too large" 1 "accretion.radius: the outer radius 1e+300 of the keplerian disc may be at most 1e+15 M (the disc's flux table cannot resolve the flux peak over a longer span" \
+    "$GOOD"$'accretion: {model: keplerian, radius: [6, 1e300]}\n'
+scene "keplerian outer radius too large, in units of M" 1 "accretion.radius: the outer radius 4e+15 (in units of metric.m) of the keplerian disc may be at most 1e+15 M" \
+    $'metric: {m: 2, a: 0, q: 0}\nobserver: {r: 40, theta: 90, phi: 0, hfov: 60}\naccretion: {model: keplerian, radius: [4e15]}\n'
+scene "keplerian mass_msun too large" 1 "bad.yml:3:59: accretion.mass_msun: the hole's mass must lie between 1e-100 and 1e+100 solar masses (the temperature is computed from it in SI units, in doubles), got 1e+300" \
+    "$GOOD"$'accretion: {model: keplerian, radius: [6, 20], mass_msun: 1e300, mdot_edd: 1e-300}\n'
+scene "keplerian mdot_edd too small" 1 "bad.yml:3:73: accretion.mdot_edd: the accretion rate must lie between 1e-100 and 1e+100 Eddington units" \
+    "$GOOD"$'accretion: {model: keplerian, radius: [6, 20], mass_msun: 10, mdot_edd: 1e-300}\n'
+scene "keplerian temperature too high" 1 "accretion.temperature: the peak temperature must lie between 0 and 1e+300 kelvin (the disc's temperature scale overflows above that), got 1.7e+308" \
+    "$GOOD"$'accretion: {model: keplerian, radius: [6, 20], temperature: 1.7e308}\n'
+for case in "radius: [1e15], temperature: 1e300" "radius: [1e15], temperature: 1e-300" "radius: [6, 20], mass_msun: 1e100, mdot_edd: 1e-100" "radius: [20], mass_msun: 1e-100, mdot_edd: 1e100"; do
+    printf '%saccretion: {model: keplerian, %s}\n' "$GOOD" "$case" >edge.yml
+    rm -rf o
+    run -s edge.yml -o o -x 8 -y 8 -t c -a true
+    if [ "$RC" = 0 ] && [ -s o/c_0.png ]; then ok "keplerian at its limits renders ($case)"; else bad "keplerian at its limits ($case)" "rc $RC"; fi
+done
 scene "keplerian mdot_edd 0" 1 "accretion.mdot_edd: the accretion rate must be positive (Eddington units), got 0" \
     "$GOOD"$'accretion: {model: keplerian, radius: [15], mass_msun: 10, mdot_edd: 0}\n'
 scene "keplerian mass_msun negative" 1 "accretion.mass_msun: the hole's mass must be positive (solar masses), got -10" \
@@ -365,6 +386,39 @@ scene "r: inf, negative image plane width" 1 "observer.hextent = -10: the width 
     "$MET"$'observer: {r: inf, theta: 85, phi: 0, hextent: -10}\n'
 scene "r: inf, image plane height 0" 1 "observer.vextent = 0: the height of the image plane must be positive" \
     "$MET"$'observer: {r: inf, theta: 85, phi: 0, hextent: 40, vextent: 0}\n'
+scene "r: inf, an image plane too wide (every ray an error)" 1 "observer.hextent = 1e+160: the image plane at infinity may be at most 1e+150 M wide (the squared impact parameter of a wider one overflows, and every pixel would be an error ray)" \
+    "$MET"$'observer: {r: inf, theta: 85, phi: 0, hextent: 1e160}\n'
+scene "r: inf, just over the widest image plane" 1 "observer.hextent = 1.0000001e+150: the image plane at infinity may be at most 1e+150 M wide" \
+    "$MET"$'observer: {r: inf, theta: 85, phi: 0, hextent: 1.0000001e150}\n'
+scene "r: inf, too high an image plane from the aspect ratio" 1 "observer.vextent = 8e+150 (hextent x height / width): the image plane at infinity may be at most 1e+150 M high (the squared impact parameter of a wider one overflows, and every pixel would be an error ray); use a smaller hextent or a wider image" \
+    "$MET"$'observer: {r: inf, theta: 85, phi: 0, hextent: 1e150}\n' -x 1
+scene "r: inf, too high an image plane in units of M" 1 "observer.vextent = 3e+150 (1.5e+150 M with metric.m = 2): the image plane at infinity may be at most 1e+150 M high" \
+    $'metric: {m: 2, a: 0, q: 0}\nobserver: {r: inf, theta: 85, phi: 0, hextent: 40, vextent: 3e150}\n'
+# the widest image plane and the farthest observer trace every ray
+for case in "r: inf, theta: 85, phi: 0, hextent: 1e150, vextent: 1e150" "r: 1e75, theta: 60, phi: 0, hfov: 60"; do
+    printf 'metric: {m: 1, a: 0.998, q: 0.05}\nobserver: {%s}\n' "$case" >edge.yml
+    rm -rf o
+    run -s edge.yml -o o -x 8 -y 8 -t ic -a true
+    if [ "$RC" = 0 ] && grep -q '^  pixels  *horizon 0, disc 0, sphere 0, sky 64, error 0, limit 0$' o/info.txt &&
+        [[ "$OUT" != *warning* ]]; then
+        ok "at the limit, every ray traced ($case)"
+    else
+        bad "at the limit, every ray traced ($case)" "rc $RC: $(grep pixels o/info.txt 2>/dev/null)"
+    fi
+done
+# rays that end in error are counted in a warning, on the console and in
+# info.txt (rk4 from r = 1e60 M overflows in every ray)
+printf 'raytracer: {integrator: rk4}\n' >rk4.yml
+printf 'metric: {m: 1, a: 0.9, q: 0}\nobserver: {r: 1e60, theta: 85, phi: 0, hfov: 60}\n' >far.yml
+rm -rf o
+run -s far.yml -c rk4.yml -o o -x 8 -y 8 -t ic -a true
+want="64 of 64 rays ended in error (the integration met a number that is not finite) and are painted in error_color (blue by default)"
+if [ "$RC" = 0 ] && [[ "$OUT" == *"curray: warning: frame 0: $want"* ]] &&
+    grep -q "^  warning  *$want" o/info.txt; then
+    ok "error rays are counted in a warning (console and info.txt)"
+else
+    bad "error rays are counted in a warning" "rc $RC: $(grep warning o/info.txt 2>/dev/null)"
+fi
 scene "r: inf without hextent" 1 "bad.yml:2:1: observer: missing required key 'hextent'" \
     "$MET"$'observer: {r: inf, theta: 85, phi: 0}\n'
 scene "r: inf with hfov" 1 "bad.yml:2:39: observer.hfov: an observer at infinity (r: inf) has no field of view; give the width of its image plane with hextent" \
@@ -740,6 +794,23 @@ else
     if [ -z "$why" ]; then ok "second Ctrl-C stops at once ($took s)"; else bad "second Ctrl-C stops at once" "$why"; fi
 fi
 rm -rf s2
+
+# --- curray (no MPI) started by an MPI launcher ------------------------------
+# as one of several processes each would render the whole run into one
+# folder: refused before anything is written; a launcher's size of 1 is fine
+for v in OMPI_COMM_WORLD_SIZE=3 PMI_SIZE=3 MV2_COMM_WORLD_SIZE=3; do
+    AS=(env "$v")
+    expect "under an MPI launcher ($v)" 1 "was started by an MPI launcher as one of 3 processes ($v), but it is built without MPI: each would render the whole run into the same folder. Under mpirun or srun start curray_mpi instead (mpirun -np 3 curray_mpi" \
+        -s good.yml -o o -x 8 -y 8 -a true
+done
+AS=(env PMIX_RANK=1)
+expect "under an MPI launcher (PMIX_RANK=1)" 1 "as one of several processes (PMIX_RANK=1)" -s good.yml -o o -x 8 -y 8 -a true
+AS=(env OMPI_COMM_WORLD_SIZE=1 PMI_SIZE=1 PMIX_RANK=0)
+rm -rf o
+run -s good.yml -o o -x 8 -y 8 -t c -a true
+if [ "$RC" = 0 ] && [ -s o/c_0.png ]; then ok "an MPI launcher's single process renders"; else bad "an MPI launcher's single process renders" "rc $RC"; fi
+AS=()
+rm -rf o
 
 # --- a crash leaves a crash report ---------------------------------------------
 # SIGSEGV sent to a running render: <output>/log/crash-<time>-<pid>.log with the

@@ -112,6 +112,28 @@ else
     bad "more ranks than rows" "rc $RC"
 fi
 
+# --- plain curray under mpirun ----------------------------------------------
+# curray has no MPI: under mpirun each process would render the whole run
+# into the same folder. Each refuses, pointing to curray_mpi; nothing is
+# written. One process under mpirun (-np 1) renders.
+OUT=$(timeout 120 "${MPIRUN[@]}" "$CURRAY" -s kerr.yml -o dup -x 8 -y 6 -t ic -a 2>&1)
+RC=$?
+if [ $RC != 0 ] && has "was started by an MPI launcher as one of 2 processes (OMPI_COMM_WORLD_SIZE=2), but it is built without MPI" &&
+    has "start curray_mpi instead (mpirun -np 2 curray_mpi" && [ ! -e dup ]; then
+    ok "plain curray under mpirun -np 2 is refused, pointing to curray_mpi"
+else
+    bad "plain curray under mpirun -np 2" "rc $RC"
+fi
+ONE=(mpirun -np 1)
+[ "$(id -u)" = 0 ] && ONE+=(--allow-run-as-root)
+OUT=$(timeout 120 "${ONE[@]}" "$CURRAY" -s kerr.yml -o one -x 8 -y 6 -t ic -a 2>&1)
+RC=$?
+if [ $RC = 0 ] && [ -s one/c_0.png ]; then
+    ok "plain curray under mpirun -np 1 renders"
+else
+    bad "plain curray under mpirun -np 1" "rc $RC"
+fi
+
 # --- a rank dies ---------------------------------------------------------------
 ARGS=(-s orbit.yml -x 320 -y 240 -f 6 -t icrd -a --threads 1)
 "$CURRAY" "${ARGS[@]}" -o one6 >/dev/null 2>&1
