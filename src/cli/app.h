@@ -39,6 +39,7 @@ typedef struct cr_run {
     char **argv;
     cr_cli cli;
     cr_sysconfig cfg;
+    int config_found; /* config.yml was read from the current folder (no -c) */
     cr_scene scene;
     cr_log log;
     int log_open;

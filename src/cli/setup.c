@@ -111,8 +111,10 @@ static int cr_configure(cr_run *run, cr_err *err)
 {
     cr_sysconfig_defaults(&run->cfg);
     if (run->cli.config_path || access("config.yml", F_OK) == 0) {
-        if (!run->cli.config_path)
+        if (!run->cli.config_path) {
             run->cli.config_path = "config.yml";
+            run->config_found = 1;
+        }
         if (cr_sysconfig_load(run->cli.config_path, &run->cfg, err))
             return -1;
     }
@@ -301,25 +303,99 @@ static int cr_confirm(cr_run *run)
     return cr_cli_answer_yes(line);
 }
 
+/* The observer's motion for the summary: "static", "zamo", "orbit
+ * (prograde)", "infall", "velocity [v_r, v_theta, v_phi] c (ZAMO frame)". */
+static void cr_summary_motion(const cr_scene *s, const cr_observer *o, char *buf, size_t n)
+{
+    if (s->obs_motion == CR_MOTION_VELOCITY)
+        snprintf(buf, n, "moving at [%g, %g, %g] c (v_r, v_theta, v_phi in the ZAMO frame)",
+                 o->v[0], o->v[1], o->v[2]);
+    else if (s->obs_motion == CR_MOTION_ORBIT)
+        snprintf(buf, n, "on a %s circular orbit", s->obs_retrograde ? "retrograde" : "prograde");
+    else if (s->obs_motion == CR_MOTION_INFALL)
+        snprintf(buf, n, "falling in from rest at infinity");
+    else if (s->obs_motion == CR_MOTION_ZAMO)
+        snprintf(buf, n, "zamo (zero angular momentum)");
+    else
+        snprintf(buf, n, "static");
+}
+
+/* The observer's view for the summary: the projection with the fields of
+ * view frame 0 uses (the vertical one derived when not given). */
+static void cr_summary_view(const cr_observer *o, char *buf, size_t n)
+{
+    const double deg = 180.0 / CR_PI;
+    if (o->projection == CR_PROJ_EQUIRECT)
+        snprintf(buf, n, "equirectangular projection, the full sphere (360 x 180 deg)");
+    else
+        snprintf(buf, n, "%s projection, %.4g x %.4g deg",
+                 o->projection == CR_PROJ_FISHEYE ? "fisheye (equidistant)" : "rectilinear",
+                 o->hfov * deg, o->vfov * deg);
+}
+
+/* The disc for the summary, in the scene's units (m: frame 0's M; the
+ * frame's radii are in units of M). */
+static void cr_summary_disc(const cr_scene *s, const cr_frame *f, double m, char *buf, size_t n)
+{
+    const cr_disc *d = &f->disc;
+    const char *sense = s->disc_retrograde ? "retrograde" : "prograde";
+    char from[96], lum[128];
+    if (s->disc_model != CR_DISC_KEPLERIAN) {
+        snprintf(buf, n, "chessboard disc from r = %g to %g, %dx%d squares", d->r_in * m,
+                 d->r_out * m, s->disc_n_radial, s->disc_n_sectors);
+        return;
+    }
+    if (s->disc_has_r_in && d->r_in > d->r_isco)
+        snprintf(from, sizeof from, "r = %g", d->r_in * m);
+    else if (s->disc_has_r_in)
+        snprintf(from, sizeof from, "the ISCO r = %.6g (the inner radius %g lies inside it)",
+                 d->r_isco * m, cr_anim_at(s->disc_r_in, 0, 1));
+    else
+        snprintf(from, sizeof from, "the ISCO r = %.6g", d->r_isco * m);
+    if (s->disc_mass_msun > 0.0)
+        snprintf(lum, sizeof lum, "%g solar masses at %g Eddington: peak temperature %.4g K",
+                 s->disc_mass_msun, s->disc_mdot_edd, d->t_peak);
+    else
+        snprintf(lum, sizeof lum, "peak temperature %g K", d->t_peak);
+    snprintf(buf, n, "keplerian disc (%s orbits) from %s to %g, %s%s", sense, from, d->r_out * m, lum,
+             s->disc_plunge ? ", plunging matter inside the ISCO" : "");
+}
+
+/* The summary before "Proceed?" (E.1): the configuration file when one is
+ * read, the scene with frame 0's values (the observer's motion and view,
+ * the disc as traced), the sky, and the run. */
 static void cr_log_scene(cr_run *run)
 {
     const cr_scene *s = &run->scene;
-    const double deg = 180.0 / CR_PI;
-    char range[48] = "";
+    const cr_frame *f = &run->ends[0];
+    const double deg = 180.0 / CR_PI, m = cr_anim_at(s->m, 0, (int)run->cli.frames);
+    const char *f0 = run->cli.frames > 1 ? " (frame 0)" : "";
+    char range[48] = "", motion[128], view[128], disc[320];
+    if (run->config_found)
+        cr_log_info(&run->log, "configuration config.yml (found in the current folder; -c FILE "
+                               "reads another)");
+    else if (run->cli.config_path)
+        cr_log_info(&run->log, "configuration %s", run->cli.config_path);
     cr_log_info(&run->log, "scene %s: M = %g, a = %g, Q = %g%s", s->path, s->m.a, s->a.a, s->q.a,
                 (s->m.a != s->m.b || s->a.a != s->a.b || s->q.a != s->q.b) ? " (animated)" : "");
-    if (s->obs_at_infinity)
+    if (s->obs_at_infinity) {
         cr_log_info(&run->log,
-                    "observer at infinity, theta = %g deg, phi = %g deg, image plane %g M wide%s",
-                    s->obs_theta.a * deg, s->obs_phi.a * deg, s->hextent.a,
-                    run->cli.frames > 1 ? " (frame 0)" : "");
-    else
-        cr_log_info(&run->log, "observer at r = %g, theta = %g deg, phi = %g deg, hfov %g deg%s",
-                    s->obs_r.a, s->obs_theta.a * deg, s->obs_phi.a * deg, s->hfov.a * deg,
-                    run->cli.frames > 1 ? " (frame 0)" : "");
-    if (s->has_disc)
-        cr_log_info(&run->log, "disc from r = %g to %g, %dx%d squares", s->disc_r_in.a,
-                    s->disc_r_out.a, s->disc_n_radial, s->disc_n_sectors);
+                    "observer at infinity, theta = %g deg, phi = %g deg, image plane %g wide, %g high%s",
+                    s->obs_theta.a * deg, s->obs_phi.a * deg, f->observer.hextent * m,
+                    f->observer.vextent * m, f0);
+    } else {
+        cr_summary_motion(s, &f->observer, motion, sizeof motion);
+        cr_summary_view(&f->observer, view, sizeof view);
+        cr_log_info(&run->log, "observer at r = %g, theta = %g deg, phi = %g deg, %s, %s%s",
+                    s->obs_r.a, s->obs_theta.a * deg, s->obs_phi.a * deg, motion, view, f0);
+    }
+    if (s->roll.a != 0.0 || s->pitch.a != 0.0 || s->yaw.a != 0.0)
+        cr_log_info(&run->log, "camera roll = %g deg, pitch = %g deg, yaw = %g deg%s",
+                    s->roll.a * deg, s->pitch.a * deg, s->yaw.a * deg, f0);
+    if (s->has_disc) {
+        cr_summary_disc(s, f, m, disc, sizeof disc);
+        cr_log_info(&run->log, "%s%s", disc, f0);
+    }
     if (s->n_spheres)
         cr_log_info(&run->log, "%d sphere%s", s->n_spheres, s->n_spheres > 1 ? "s" : "");
     if (s->has_sky && s->sky_at_infinity)
