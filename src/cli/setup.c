@@ -482,8 +482,8 @@ static int cr_check_folder(cr_run *run, cr_err *err)
     int n, k;
     cr_output_frame_letters(run->cli.output_type, run->frame_types, sizeof run->frame_types);
     if (cr_has_type(run, 'v')) {
-        if (!cr_video_available())
-            return cr_err_set(err, "-t v: %s", CR_VIDEO_UNAVAILABLE);
+        if (!cr_video_available(err))
+            return -1;
         snprintf(video, sizeof video, "video fps %d", run->cfg.video_fps);
     }
     if (cr_run_hash(&run->scene, &run->cfg, run->cli.width, run->cli.height, run->cli.frames,

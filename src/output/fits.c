@@ -10,6 +10,7 @@
 #include "../base/atomic.h"
 #include "../base/fsutil.h"
 #include "info.h"
+#include "module.h"
 #include "output.h"
 #include "../input/sysconfig.h"
 
@@ -20,10 +21,46 @@ double cr_fits_memory(int w, int h)
     return 53.0 * (double)w * (double)h + 9.0 * 4.0 * 2880.0 + 8.0 * (double)w;
 }
 
-#ifndef CURRAY_HAVE_FITS
+/* What curray_fits.so gives the program (module.h). */
+typedef struct cr_fits_module {
+    cr_module_header head;
+    int (*write)(const char *dir, int k, int n, const cr_scene *s, const cr_frame *f,
+                 const cr_pixel *px, cr_err *err);
+} cr_fits_module;
 
-int cr_fits_available(void)
+#define CR_FITS_MODULE_FILE "curray_fits" CURRAY_MODULE_SUFFIX
+#define CR_FITS_MODULE_NEEDS "cfitsio's library libcfitsio (Debian: apt-get install libcfitsio10, " \
+                             "or libcfitsio-dev of tools/install-deps.sh)"
+
+#if defined(CURRAY_FITS_MODULE_HOST)
+
+static const cr_fits_module *cr_fits_module_get(cr_err *err)
 {
+    return cr_module_load(CR_FITS_MODULE_FILE, "curray_fits_module", "FITS module",
+                          CR_FITS_MODULE_NEEDS, err);
+}
+
+int cr_fits_available(cr_err *err)
+{
+    cr_err e;
+    if (cr_fits_module_get(&e))
+        return 1;
+    cr_err_set(err, "-t f: %s", e.msg);
+    return 0;
+}
+
+int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_frame *f,
+                   const cr_pixel *px, cr_err *err)
+{
+    const cr_fits_module *m = cr_fits_module_get(err);
+    return m ? m->write(dir, k, n, s, f, px, err) : -1;
+}
+
+#elif !defined(CURRAY_HAVE_FITS)
+
+int cr_fits_available(cr_err *err)
+{
+    cr_err_set(err, "%s", CR_FITS_MISSING);
     return 0;
 }
 
@@ -38,8 +75,9 @@ int cr_output_fits(const char *dir, int k, int n, const cr_scene *s, const cr_fr
 
 #include <fitsio.h>
 
-int cr_fits_available(void)
+int cr_fits_available(cr_err *err)
 {
+    (void)err;
     return 1;
 }
 
@@ -200,6 +238,16 @@ done:
     free(row);
     return rc;
 }
+
+#if defined(CURRAY_FITS_MODULE)
+/* The entry of curray_fits.so. */
+CR_MODULE_EXPORT const cr_fits_module *curray_fits_module(void);
+CR_MODULE_EXPORT const cr_fits_module *curray_fits_module(void)
+{
+    static const cr_fits_module m = {{CURRAY_VERSION, CR_MODULE_LAYOUT}, cr_output_fits};
+    return &m;
+}
+#endif
 
 #endif
 

@@ -21,7 +21,11 @@
  * data[::-1] is the image in the CSV's row order.
  *
  * cfitsio is optional at build time (CMake finds it or not); without it
- * cr_fits_available() is 0 and cr_output_fits fails with a message saying so. */
+ * cr_fits_available() is 0 and cr_output_fits fails with a message saying so.
+ * With it the CMake build makes this file a module, curray_fits.so
+ * (module.h), that the program loads only when a run writes FITS
+ * (CURRAY_FITS_MODULE_HOST: the program's side; CURRAY_FITS_MODULE: the
+ * module's), or links it in (static builds). */
 #ifndef CR_IO_FITS_H
 #define CR_IO_FITS_H
 
@@ -30,8 +34,11 @@
 #include "../input/scene.h"
 #include "types.h"
 
-/* 1 when this build writes FITS (linked with cfitsio). */
-int cr_fits_available(void);
+/* 1 when this build writes FITS (linked with cfitsio, or curray_fits.so
+ * loaded: the first call loads it); else 0 with err (may be NULL) set to the
+ * message -t f gets: CR_FITS_MISSING, or why the module cannot be loaded
+ * (naming it and the library missing). */
+int cr_fits_available(cr_err *err);
 
 /* The message -t f gets from a build without cfitsio. */
 #define CR_FITS_MISSING                                                                         \

@@ -84,23 +84,6 @@ cr_rgb cr_bolometric_color(const cr_pixel *p)
     return c;
 }
 
-cr_pixel_values cr_pixel_csv_values(const cr_pixel *q)
-{
-    cr_pixel_values v;
-    /* The ratio is meaningless where no source was reached. */
-    int undefined = q->outcome == CR_OUT_NONE || q->outcome == CR_OUT_ERROR ||
-                    q->outcome == CR_OUT_LIMIT || q->outcome == CR_OUT_OUTSIDE ||
-                    q->redshift != q->redshift;
-    /* where the ray hit the disc or a sphere */
-    int hit = q->outcome == CR_OUT_DISC || q->outcome == CR_OUT_SPHERE;
-    v.redshift = undefined ? -1.0 : q->redshift;
-    v.hit_r = hit ? q->hit_r : -1.0;
-    v.hit_phi = hit ? q->hit_phi : -1.0;
-    /* g^4 F / F_max on a Keplerian disc hit */
-    v.bolometric = q->outcome == CR_OUT_DISC && q->bolo >= 0.0 ? q->bolo : -1.0;
-    return v;
-}
-
 static int cr_frame_path(char *out, size_t n, const char *dir, const char *prefix, int k,
                          const char *ext, cr_err *err)
 {

@@ -39,7 +39,24 @@ cr_rgb cr_bolometric_color(const cr_pixel *p);
 typedef struct cr_pixel_values {
     double redshift, hit_r, hit_phi, bolometric;
 } cr_pixel_values;
-cr_pixel_values cr_pixel_csv_values(const cr_pixel *p);
+/* (inline: the CSV writer calls it for every pixel, and the FITS module
+ * (module.h) has it without the rest of the writers) */
+static inline cr_pixel_values cr_pixel_csv_values(const cr_pixel *q)
+{
+    cr_pixel_values v;
+    /* The ratio is meaningless where no source was reached. */
+    int undefined = q->outcome == CR_OUT_NONE || q->outcome == CR_OUT_ERROR ||
+                    q->outcome == CR_OUT_LIMIT || q->outcome == CR_OUT_OUTSIDE ||
+                    q->redshift != q->redshift;
+    /* where the ray hit the disc or a sphere */
+    int hit = q->outcome == CR_OUT_DISC || q->outcome == CR_OUT_SPHERE;
+    v.redshift = undefined ? -1.0 : q->redshift;
+    v.hit_r = hit ? q->hit_r : -1.0;
+    v.hit_phi = hit ? q->hit_phi : -1.0;
+    /* g^4 F / F_max on a Keplerian disc hit */
+    v.bolometric = q->outcome == CR_OUT_DISC && q->bolo >= 0.0 ? q->bolo : -1.0;
+    return v;
+}
 
 /* c_<k>.png, r_<k>.png, d_<k>.csv in dir. */
 int cr_output_color_png(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err);

@@ -67,8 +67,9 @@ int cr_output_types_check(const char *types, cr_err *err)
                               types, list);
     for (int i = 0; i < CR_N_OUTPUT_TYPES; i++) {
         const cr_output_type *t = &cr_output_types[i];
-        if (t->available && strchr(types, t->letter) && !t->available())
-            return cr_err_set(err, "%s", t->unavailable);
+        cr_err why = {""};
+        if (t->available && strchr(types, t->letter) && !t->available(&why))
+            return cr_err_set(err, "%s", why.msg[0] ? why.msg : t->unavailable);
     }
     return 0;
 }

@@ -50,9 +50,10 @@ typedef struct cr_output_type {
     int (*write)(const cr_frame_output *o, cr_err *err);
     char implies;           /* another type this one needs written too (the
                                video v is made from the colour frames c), or 0 */
-    /* NULL when always available; else whether this build writes the type,
-       and the message -t gets when it does not */
-    int (*available)(void);
+    /* NULL when always available; else 1 when this build writes the type
+       (a loadable module is loaded by it), or 0 with err set to the message
+       -t gets; unavailable: the message when available() sets none */
+    int (*available)(cr_err *err);
     const char *unavailable;
 } cr_output_type;
 

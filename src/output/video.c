@@ -1,10 +1,49 @@
 /* curray io: MP4 videos of PNG frames with FFmpeg's libraries (video.h). */
 #include "video.h"
 
-#ifndef CURRAY_HAVE_FFMPEG
+#include "module.h"
 
-int cr_video_available(void)
+/* What curray_video.so gives the program (module.h). */
+typedef struct cr_video_module {
+    cr_module_header head;
+    int (*from_pngs)(const char *dir, const char *prefix, int n, int fps, const char *name,
+                     int *padded, atomic_int *cancel, cr_err *err);
+} cr_video_module;
+
+#define CR_VIDEO_MODULE_FILE "curray_video" CURRAY_MODULE_SUFFIX
+#define CR_VIDEO_MODULE_NEEDS                                                                  \
+    "FFmpeg's libraries libavformat, libavcodec, libswscale and libavutil (Debian: "           \
+    "apt-get install ffmpeg, or the -dev packages of tools/install-deps.sh)"
+
+#if defined(CURRAY_VIDEO_MODULE_HOST)
+
+static const cr_video_module *cr_video_module_get(cr_err *err)
 {
+    return cr_module_load(CR_VIDEO_MODULE_FILE, "curray_video_module", "video module",
+                          CR_VIDEO_MODULE_NEEDS, err);
+}
+
+int cr_video_available(cr_err *err)
+{
+    cr_err e;
+    if (cr_video_module_get(&e))
+        return 1;
+    cr_err_set(err, "-t v: %s", e.msg);
+    return 0;
+}
+
+int cr_video_from_pngs(const char *dir, const char *prefix, int n, int fps, const char *name,
+                       int *padded, atomic_int *cancel, cr_err *err)
+{
+    const cr_video_module *m = cr_video_module_get(err);
+    return m ? m->from_pngs(dir, prefix, n, fps, name, padded, cancel, err) : -1;
+}
+
+#elif !defined(CURRAY_HAVE_FFMPEG)
+
+int cr_video_available(cr_err *err)
+{
+    cr_err_set(err, "-t v: %s", CR_VIDEO_UNAVAILABLE);
     return 0;
 }
 
@@ -31,8 +70,9 @@ int cr_video_from_pngs(const char *dir, const char *prefix, int n, int fps, cons
 #include "../base/fsutil.h"
 #include "../base/png_io.h"
 
-int cr_video_available(void)
+int cr_video_available(cr_err *err)
 {
+    (void)err;
     return 1;
 }
 
@@ -286,5 +326,15 @@ int cr_video_from_pngs(const char *dir, const char *prefix, int n, int fps, cons
         rc = cr_video_encode(&v, NULL, err);
     return cr_video_close(&v, rc == 0, err);
 }
+
+#if defined(CURRAY_VIDEO_MODULE)
+/* The entry of curray_video.so. */
+CR_MODULE_EXPORT const cr_video_module *curray_video_module(void);
+CR_MODULE_EXPORT const cr_video_module *curray_video_module(void)
+{
+    static const cr_video_module m = {{CURRAY_VERSION, CR_MODULE_LAYOUT}, cr_video_from_pngs};
+    return &m;
+}
+#endif
 
 #endif

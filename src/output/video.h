@@ -8,6 +8,10 @@
  * video is the frame plus at most one pixel. The file is written atomically
  * (atomic.h): a temporary name, renamed when complete.
  *
+ * With FFmpeg found, the CMake build makes this file a module,
+ * curray_video.so (module.h), that the program loads only when a run writes
+ * a video (CURRAY_VIDEO_MODULE_HOST: the program's side, which loads it;
+ * CURRAY_VIDEO_MODULE: the module's), or links it in (static builds).
  * Builds without FFmpeg's development files (CURRAY_HAVE_FFMPEG undefined)
  * get a version whose cr_video_available() is 0 and whose
  * cr_video_from_pngs() fails with CR_VIDEO_UNAVAILABLE. */
@@ -25,8 +29,11 @@
     "libavutil-dev, or tools/install-deps.sh) and build again"
 
 
-/* 1 when this build writes videos. */
-int cr_video_available(void);
+/* 1 when this build writes videos (FFmpeg linked in, or curray_video.so
+ * loaded: the first call loads it); else 0 with err (may be NULL) set to
+ * the message -t v gets: "-t v: " and CR_VIDEO_UNAVAILABLE, or why the
+ * module cannot be loaded (naming it and the library missing). */
+int cr_video_available(cr_err *err);
 
 /* Write dir/name from the n frames dir/<prefix>_<k>.png at fps frames per
  * second (1..CR_VIDEO_MAX_FPS). *padded (may be NULL) is set to 1 when the

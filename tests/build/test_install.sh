@@ -4,7 +4,9 @@
 #   bash tests/build/test_install.sh path/to/cmake build-folder [repository root]
 #
 # The build folder's install (prefix /opt/curray under DESTDIR=<tmp>/stage)
-# holds bin/curray and bin/curray_cpu, every shipped scene with the sky images
+# holds bin/curray and bin/curray_cpu, lib/curray/ with the output modules
+# (curray_video.so, curray_fits.so, where the build made them: the installed
+# curray writes -t fv with them), every shipped scene with the sky images
 # beside it under share/curray/scenes, the man page share/man/man1/curray.1
 # (naming every long option of curray -h; groff finds nothing to warn about,
 # where groff is installed) and the README with docs/ under share/doc/curray.
@@ -63,6 +65,21 @@ mkdir elsewhere && cd elsewhere
 run -s "$P/share/curray/scenes/listing-7.1.2-starry-sky.yml" -o sky -x 32 -y 24 -a -q
 [ $RC = 0 ] && [ -s sky/c_0.png ] && ok "an installed scene with a sky image renders from another folder" ||
     bad "an installed scene with a sky image" "rc $RC"
+# the output modules (a build with FFmpeg and cfitsio makes them): installed
+# in lib/curray (or <libdir>/curray) and found from the installed program
+if [ -e "$BUILD/curray_video.so" ] && [ -e "$BUILD/curray_fits.so" ]; then
+    mods=$(cd "$P" && find . -name 'curray_*.so' | sort | tr '\n' ' ')
+    CURRAY=$P/bin/curray
+    run -s "$P/share/curray/scenes/demo.yml" -o vf -x 32 -y 24 -f 2 -a -q -t icfv
+    if [ "$mods" = "./lib/curray/curray_fits.so ./lib/curray/curray_video.so " ] && [ $RC = 0 ] &&
+       [ -s vf/c.mp4 ] && [ -s vf/f_1.fits ]; then
+        ok "the modules installed in lib/curray; the installed curray writes -t fv with them"
+    else
+        bad "installed modules" "rc $RC; found: $mods"
+    fi
+else
+    echo "(this build has no output modules: their install is not checked)"
+fi
 CURRAY=$P/bin/curray_cpu
 run --version
 [ $RC = 0 ] && has "curray " && ok "the installed curray_cpu runs" || bad "curray_cpu --version" "rc $RC"
