@@ -44,6 +44,7 @@ typedef struct record {
     int fail_deliver_at; /* the sink fails on this frame (-1: never) */
     int fail_prepare_at; /* prepare fails on this frame (-1: never) */
     int cancel_after;   /* the sink sets the cancel flag after this frame (-1: never) */
+    int slots_made, slots_released; /* what prepare put in a slot, and release freed */
     atomic_int cancel;
     cr_pixel frame[W * H]; /* the last frame delivered */
 } record;
@@ -144,17 +145,37 @@ static void fake_open(cr_backend *b, record *r)
 
 /* ---- the sink ------------------------------------------------------------ */
 
-static int sink_prepare(void *ctx, int k, cr_frame *f, cr_sphere *spheres, cr_err *err)
+/* The frame lives in the slot (a cr_frame of its own, made at the slot's
+ * first prepare, as the command line's cr_frame_eval). */
+static int sink_prepare(void *ctx, int k, void **slot, const cr_frame **out, cr_err *err)
 {
     record *r = ctx;
-    (void)spheres;
+    cr_frame *f = *slot;
     if (k == r->fail_prepare_at)
         return cr_err_set(err, "prepare: frame %d refused", k);
+    if (!f) {
+        f = malloc(sizeof *f);
+        assert_non_null(f);
+        *slot = f;
+        pthread_mutex_lock(&r->lock);
+        r->slots_made++;
+        pthread_mutex_unlock(&r->lock);
+    }
     memset(f, 0, sizeof *f);
     f->width = W;
     f->height = H;
     f->max_steps = k;
+    *out = f;
     return 0;
+}
+
+static void sink_release(void *ctx, void *slot)
+{
+    record *r = ctx;
+    free(slot);
+    pthread_mutex_lock(&r->lock);
+    r->slots_released++;
+    pthread_mutex_unlock(&r->lock);
 }
 
 static int sink_deliver(void *ctx, int worker, const cr_traced *t, cr_err *err)
@@ -204,7 +225,7 @@ static void sink_progress(void *ctx, int worker, const cr_item *it, int rows_don
 }
 
 static const cr_stack_ops sink_ops = {NULL, sink_prepare, sink_deliver, sink_begin,
-                                      sink_progress};
+                                      sink_progress, sink_release};
 
 static record *rec_new(void)
 {
@@ -218,6 +239,8 @@ static record *rec_new(void)
 
 static void rec_free(record *r)
 {
+    /* every slot that prepare filled was released */
+    assert_int_equal(r->slots_released, r->slots_made);
     pthread_mutex_destroy(&r->lock);
     free(r);
 }
@@ -233,7 +256,7 @@ static int run_fake(record *r, int frames, int n, const char *skip, cr_err *err)
     ops.ctx = r;
     for (k = 0; k < n; k++)
         fake_open(&b[k], r);
-    assert_int_equal(cr_stack_init(&st, &ops, frames, W, H, H, skip, 1, &r->cancel, b, n, err),
+    assert_int_equal(cr_stack_init(&st, &ops, frames, W, H, H, skip, &r->cancel, b, n, err),
                      0);
     cr_stack_run(&st);
     failed = cr_stack_failed(&st, err);
@@ -302,7 +325,7 @@ static void test_first_failure_kept(void **state)
     cr_err a, b, got;
     cr_item it;
     (void)state;
-    assert_int_equal(cr_stack_init(&st, &ops, 3, W, H, H, NULL, 1, NULL, NULL, 0, &got), 0);
+    assert_int_equal(cr_stack_init(&st, &ops, 3, W, H, H, NULL, NULL, NULL, 0, &got), 0);
     assert_int_equal(cr_stack_failed(&st, &got), 0);
     assert_int_equal(cr_stack_take(&st, &it), 0);
     assert_int_equal(it.frame, 0);
@@ -393,7 +416,7 @@ static void test_blocks_assembled(void **state)
     assert_int_equal(cr_stack_block_rows(1, H, 1), H);
     ops.ctx = r;
     fake_open(&b, r);
-    assert_int_equal(cr_stack_init(&st, &ops, 1, W, H, rows, NULL, 1, &r->cancel, &b, 1, &err),
+    assert_int_equal(cr_stack_init(&st, &ops, 1, W, H, rows, NULL, &r->cancel, &b, 1, &err),
                      0);
     /* the other rank's block first */
     assert_int_equal(cr_stack_take(&st, &it), 0);
@@ -441,7 +464,7 @@ static void test_trace_one(void **state)
     (void)state;
     ops.ctx = r;
     fake_open(&b, r);
-    assert_int_equal(cr_stack_init(&st, &ops, 5, W, H, H, NULL, 1, NULL, NULL, 0, &err), 0);
+    assert_int_equal(cr_stack_init(&st, &ops, 5, W, H, H, NULL, NULL, NULL, 0, &err), 0);
     assert_int_equal(cr_stack_trace(&st, &b, &it, out, &seconds, &err), 0);
     assert_int_equal(out[0].steps, 3001);
     assert_int_equal(out[W + 4].steps, 3002);

@@ -33,16 +33,14 @@ typedef struct cr_py_job {
     cr_scene scene;
     int scene_loaded;
     cr_sysconfig cfg;
-    cr_sphere *spheres;
-    cr_frame f;
+    cr_frame_eval eval; /* the frame (eval.frame) with its spheres */
 } cr_py_job;
 
 static void cr_py_job_free(cr_py_job *j)
 {
     if (j->scene_loaded)
         cr_scene_free(&j->scene);
-    free(j->spheres);
-    j->spheres = NULL;
+    cr_frame_eval_free(&j->eval);
     j->scene_loaded = 0;
 }
 
@@ -91,15 +89,9 @@ static int cr_py_prepare(cr_py_job *j, const char *scene_text, Py_ssize_t scene_
         return -1;
     }
     j->scene_loaded = 1;
-    j->spheres = malloc(sizeof *j->spheres * (size_t)(j->scene.n_spheres + 1));
-    if (!j->spheres) {
-        cr_py_job_free(j);
-        PyErr_NoMemory();
-        return -1;
-    }
     ts = j->cfg.raytracer;
-    if (cr_scene_frame(&j->scene, (int)k, (int)n, (int)width, (int)height, &ts, &j->f,
-                       j->spheres, &err)) {
+    if (cr_frame_eval_at(&j->eval, &j->scene, (int)k, (int)n, (int)width, (int)height, &ts,
+                         &err)) {
         cr_py_job_free(j);
         cr_py_value_error("scene file ", &err);
         return -1;
@@ -219,12 +211,12 @@ typedef struct cr_py_run {
     cr_py_wait *w;
 } cr_py_run;
 
-static int cr_py_stack_prepare(void *ctx, int k, cr_frame *f, cr_sphere *spheres, cr_err *err)
+static int cr_py_stack_prepare(void *ctx, int k, void **slot, const cr_frame **f, cr_err *err)
 {
     (void)k;
-    (void)spheres; /* f->spheres stays the job's */
+    (void)slot; /* the frame stays the job's (nothing to release) */
     (void)err;
-    *f = ((cr_py_run *)ctx)->j->f;
+    *f = &((cr_py_run *)ctx)->j->eval.frame;
     return 0;
 }
 
@@ -234,7 +226,7 @@ static int cr_py_stack_deliver(void *ctx, int worker, const cr_traced *t, cr_err
     (void)worker;
     (void)err;
     if (!r->w->raised)
-        cr_py_fill(t->px, (size_t)r->j->f.width * (size_t)r->j->f.height, r->a);
+        cr_py_fill(t->px, (size_t)t->frame->width * (size_t)t->frame->height, r->a);
     return 0;
 }
 
@@ -253,7 +245,7 @@ static void cr_py_stack_progress(void *ctx, int worker, const cr_item *it, int r
 static int cr_py_trace_frame(const cr_py_job *j, cr_backend *b, char **a, cr_err *err)
 {
     cr_stack_ops ops = {NULL, cr_py_stack_prepare, cr_py_stack_deliver, NULL,
-                        cr_py_stack_progress};
+                        cr_py_stack_progress, NULL};
     cr_py_run r;
     cr_stack st;
     cr_py_wait w;
@@ -265,8 +257,8 @@ static int cr_py_trace_frame(const cr_py_job *j, cr_backend *b, char **a, cr_err
     r.w = &w;
     ops.ctx = &r;
     w.ts = PyEval_SaveThread();
-    rc = cr_stack_init(&st, &ops, 1, j->f.width, j->f.height, j->f.height, NULL, 1, &w.cancel,
-                       b, 1, err);
+    rc = cr_stack_init(&st, &ops, 1, j->eval.frame.width, j->eval.frame.height,
+                       j->eval.frame.height, NULL, &w.cancel, b, 1, err);
     if (rc == 0) {
         cr_stack_run(&st);
         rc = cr_stack_failed(&st, err) ? -1 : 0;
@@ -395,7 +387,7 @@ static PyObject *cr_py_trace(PyObject *self, PyObject *args, PyObject *kw)
         return NULL;
     }
     Py_BEGIN_ALLOW_THREADS
-    rc = cr_raypath_trace(&j.f, (int)i, (int)jj, &rp, &err);
+    rc = cr_raypath_trace(&j.eval.frame, (int)i, (int)jj, &rp, &err);
     Py_END_ALLOW_THREADS
     cr_py_job_free(&j);
     if (rc)

@@ -80,12 +80,27 @@ static void cr_begin(void *ctx, int worker, const cr_item *it)
     pthread_mutex_unlock(&run->lock);
 }
 
-/* cr_stack_ops.prepare: frame k of the scene. */
-static int cr_prepare_frame(void *ctx, int k, cr_frame *f, cr_sphere *spheres, cr_err *err)
+/* cr_stack_ops.prepare: frame k of the scene, evaluated into the slot's
+ * cr_frame_eval (which owns its spheres; made at the slot's first frame). */
+static int cr_prepare_frame(void *ctx, int k, void **slot, const cr_frame **f, cr_err *err)
 {
     cr_run *run = ctx;
-    return cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
-                          (int)run->cli.height, &run->ts, f, spheres, err);
+    cr_frame_eval *e = *slot;
+    if (!e && !(e = *slot = calloc(1, sizeof *e)))
+        return cr_err_set(err, "out of memory");
+    if (cr_frame_eval_at(e, &run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                         (int)run->cli.height, &run->ts, err))
+        return -1;
+    *f = &e->frame;
+    return 0;
+}
+
+/* cr_stack_ops.release: a slot's cr_frame_eval. */
+static void cr_release_frame(void *ctx, void *slot)
+{
+    (void)ctx;
+    cr_frame_eval_free(slot);
+    free(slot);
 }
 
 /* Remove the files of frame k already written, types among "crdbf": a frame
@@ -209,8 +224,8 @@ fail:
     return -1;
 }
 
-static const cr_stack_ops cr_frame_ops = {NULL, cr_prepare_frame, cr_output_frame, cr_begin,
-                                          cr_progress};
+static const cr_stack_ops cr_frame_ops = {NULL,        cr_prepare_frame, cr_output_frame,
+                                          cr_begin,    cr_progress,      cr_release_frame};
 
 /* Open a backend per worker: the chosen GPUs, or the CPU threads. */
 static int cr_open_backends(cr_run *run, cr_err *err)
@@ -244,8 +259,7 @@ static void cr_run_stack(cr_run *run)
                       (int)run->cli.height,
                       cr_stack_block_rows((int)run->cli.frames, (int)run->cli.height,
                                           run->mpi_size),
-                      run->kept, run->scene.n_spheres + 1, &run->intr.count, run->backends,
-                      run->n_workers, &err) ||
+                      run->kept, &run->intr.count, run->backends, run->n_workers, &err) ||
         cr_open_backends(run, &err)) {
         cr_stack_fail(&run->stack, &err);
     } else {
@@ -299,8 +313,7 @@ int cr_mpi_rank_main(cr_run *run)
     int rc;
     ops.ctx = run;
     rc = cr_stack_init(&st, &ops, (int)run->cli.frames, (int)run->cli.width,
-                       (int)run->cli.height, (int)run->cli.height, NULL,
-                       run->scene.n_spheres + 1, NULL, NULL, 0, &err);
+                       (int)run->cli.height, (int)run->cli.height, NULL, NULL, NULL, 0, &err);
     if (rc == 0) {
         rc = cr_mpi_serve_stack(&st, run->use_cuda ? run->devices[0] : -1, run->threads, &err);
         cr_stack_free(&st);
@@ -380,22 +393,17 @@ int cr_report(cr_run *run)
  * trace_<I>_<J>_<k>.csv; no image. Returns the exit status. */
 int cr_trace_paths(cr_run *run)
 {
-    cr_sphere *spheres = malloc(sizeof *spheres * (size_t)(run->scene.n_spheres + 1));
+    cr_frame_eval e = {0};
     cr_err err;
     int k;
-    if (!spheres) {
-        cr_log_error(&run->log, "curray: out of memory");
-        return CR_EXIT_ERROR;
-    }
     for (k = 0; k < run->cli.frames; k++) {
-        cr_frame f;
         cr_raypath rp;
         char name[96];
         int i = (int)run->cli.trace_i, j = (int)run->cli.trace_j;
         snprintf(name, sizeof name, "trace_%d_%d_%d.csv", i, j, k);
-        if (cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
-                           (int)run->cli.height, &run->ts, &f, spheres, &err) ||
-            cr_raypath_trace(&f, i, j, &rp, &err))
+        if (cr_frame_eval_at(&e, &run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                             (int)run->cli.height, &run->ts, &err) ||
+            cr_raypath_trace(&e.frame, i, j, &rp, &err))
             goto fail;
         if (cr_raypath_write_csv(run->cli.output_dir, name, &rp, &err)) {
             cr_raypath_free(&rp);
@@ -405,10 +413,10 @@ int cr_trace_paths(cr_run *run)
                     i, j, cr_outcome_name(rp.px.outcome), rp.px.steps, rp.n, name);
         cr_raypath_free(&rp);
     }
-    free(spheres);
+    cr_frame_eval_free(&e);
     return CR_EXIT_OK;
 fail:
     cr_log_error(&run->log, "curray: %s", err.msg);
-    free(spheres);
+    cr_frame_eval_free(&e);
     return CR_EXIT_ERROR;
 }

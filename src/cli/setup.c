@@ -251,27 +251,25 @@ static int cr_check_memory(const cr_run *run, int n_workers, cr_err *err)
 /* Every frame must be possible before any is rendered. */
 static int cr_check_frames(cr_run *run, cr_err *err)
 {
-    cr_sphere *tmp = malloc(sizeof *tmp * (size_t)(run->scene.n_spheres + 1));
-    cr_frame f;
+    cr_frame_eval e = {0};
+    const cr_frame *f = &e.frame;
     int k, rc = 0;
-    if (!tmp)
-        return cr_err_set(err, "out of memory");
     int shrunk = -1;
     double eps_min = 0.0;
     for (k = 0; k < run->cli.frames && rc == 0; k++) {
-        rc = cr_scene_frame(&run->scene, k, (int)run->cli.frames, (int)run->cli.width,
-                            (int)run->cli.height, &run->ts, &f, tmp, err);
+        rc = cr_frame_eval_at(&e, &run->scene, k, (int)run->cli.frames, (int)run->cli.width,
+                              (int)run->cli.height, &run->ts, err);
         if (rc == 0 && (k == 0 || k == run->cli.frames - 1)) {
             /* the first and last frame, for info.txt (spheres not kept) */
-            run->ends[k > 0] = f;
+            run->ends[k > 0] = *f;
             run->ends[k > 0].spheres = NULL;
             if (run->cli.frames == 1)
                 run->ends[1] = run->ends[0];
         }
-        if (rc == 0 && f.horizon_epsilon < run->ts.horizon_epsilon &&
-            (shrunk < 0 || f.horizon_epsilon < eps_min)) {
+        if (rc == 0 && f->horizon_epsilon < run->ts.horizon_epsilon &&
+            (shrunk < 0 || f->horizon_epsilon < eps_min)) {
             shrunk = k;
-            eps_min = f.horizon_epsilon;
+            eps_min = f->horizon_epsilon;
         }
     }
     if (rc == 0 && shrunk >= 0)
@@ -286,7 +284,7 @@ static int cr_check_frames(cr_run *run, cr_err *err)
         for (h = 0; h < nh; h++)
             cr_log_info(&run->log, "curray: warning: %s", hints[h].msg);
     }
-    free(tmp);
+    cr_frame_eval_free(&e);
     return rc;
 }
 

@@ -22,8 +22,8 @@ int cr_stack_block_rows(int frames, int height, int ranks)
 }
 
 int cr_stack_init(cr_stack *st, const cr_stack_ops *ops, int frames, int width, int height,
-                  int block_rows, const char *skip, int max_spheres, atomic_int *cancel,
-                  cr_backend *backends, int n_backends, cr_err *err)
+                  int block_rows, const char *skip, atomic_int *cancel, cr_backend *backends,
+                  int n_backends, cr_err *err)
 {
     memset(st, 0, sizeof *st);
     st->ops = *ops;
@@ -32,7 +32,6 @@ int cr_stack_init(cr_stack *st, const cr_stack_ops *ops, int frames, int width, 
     st->height = height;
     st->block_rows = block_rows < 1 || block_rows > height ? height : block_rows;
     st->skip = skip;
-    st->max_spheres = max_spheres;
     st->cancel = cancel;
     st->backends = backends;
     st->n_backends = n_backends;
@@ -103,23 +102,23 @@ int cr_stack_take(cr_stack *st, cr_item *it)
     return 0;
 }
 
+/* What prepare left in a slot, freed. */
+static void cr_stack_release(cr_stack *st, void **slot)
+{
+    if (*slot && st->ops.release)
+        st->ops.release(st->ops.ctx, *slot);
+    *slot = NULL;
+}
+
 /* A whole frame to the sink; without t->frame, the frame prepared again. */
 static int cr_stack_sink(cr_stack *st, int worker, const cr_traced *t, cr_err *err)
 {
     cr_traced u = *t;
-    cr_frame f;
-    cr_sphere *spheres = NULL;
+    void *slot = NULL;
     int rc = -1;
-    if (!u.frame) {
-        spheres = malloc(sizeof *spheres * (size_t)(st->max_spheres > 0 ? st->max_spheres : 1));
-        if (!spheres)
-            cr_err_set(err, "out of memory");
-        else if (st->ops.prepare(st->ops.ctx, u.item.frame, &f, spheres, err) == 0)
-            u.frame = &f;
-    }
-    if (u.frame)
+    if (u.frame || st->ops.prepare(st->ops.ctx, u.item.frame, &slot, &u.frame, err) == 0)
         rc = st->ops.deliver(st->ops.ctx, worker, &u, err);
-    free(spheres);
+    cr_stack_release(st, &slot);
     if (rc)
         cr_stack_fail(st, err);
     return rc;
@@ -160,17 +159,18 @@ void cr_stack_finish(cr_stack *st)
 /* ---- one worker: a backend fed from the stack ---------------------------- */
 
 /* A worker's frames: slot cur holds the frame of the item being waited for
- * (and then delivered), the other one the next item's, each with its
- * spheres. A slot keeps its frame for the next item of the same frame. */
+ * (and then delivered), the other one the next item's, each in what the
+ * caller's prepare keeps in slot[]. A slot keeps its frame for the next item
+ * of the same frame. */
 typedef struct cr_worker {
     cr_stack *st;
     int index;
     cr_backend *b;
     cr_item item; /* the item being waited for */
     int cur;
-    cr_frame f[2];
+    const cr_frame *f[2];
     int f_k[2]; /* the frame number in each slot, -1: none */
-    cr_sphere *spheres[2];
+    void *slot[2];
 } cr_worker;
 
 static void cr_worker_progress(void *ctx, int rows_done, int rows_total)
@@ -192,7 +192,7 @@ static int cr_worker_prepare(cr_worker *w, int s, int k, cr_err *err)
     if (w->f_k[s] == k)
         return 0;
     w->f_k[s] = -1;
-    if (w->st->ops.prepare(w->st->ops.ctx, k, &w->f[s], w->spheres[s], err))
+    if (w->st->ops.prepare(w->st->ops.ctx, k, &w->slot[s], &w->f[s], err))
         return -1;
     w->f_k[s] = k;
     return 0;
@@ -202,7 +202,7 @@ static int cr_worker_launch(cr_worker *w, int s, const cr_item *it, cr_err *err)
 {
     if (cr_worker_prepare(w, s, it->frame, err))
         return -1;
-    return cr_backend_launch(w->b, &w->f[s], it->row0, it->rows, err);
+    return cr_backend_launch(w->b, w->f[s], it->row0, it->rows, err);
 }
 
 /* The item just waited for, to the sink (its pixels px, its time). */
@@ -210,7 +210,7 @@ static int cr_worker_deliver(cr_worker *w, const cr_pixel *px, double seconds, c
 {
     cr_traced t;
     t.item = w->item;
-    t.frame = &w->f[w->cur];
+    t.frame = w->f[w->cur];
     t.px = px;
     t.seconds = seconds;
     t.device = w->b->device;
@@ -262,17 +262,13 @@ static void *cr_worker_main(void *arg)
     cr_err err;
     w = *(cr_worker *)arg;
     free(arg);
-    size_t n = sizeof(cr_sphere) * (size_t)(st->max_spheres > 0 ? st->max_spheres : 1);
     err.msg[0] = '\0';
     w.f_k[0] = w.f_k[1] = -1;
-    w.spheres[0] = malloc(n);
-    w.spheres[1] = malloc(n);
-    if (!w.spheres[0] || !w.spheres[1])
-        cr_err_set(&err, "out of memory for %d spheres", st->max_spheres);
-    if (!w.spheres[0] || !w.spheres[1] || cr_worker_loop(&w, &err))
+    w.slot[0] = w.slot[1] = NULL;
+    if (cr_worker_loop(&w, &err))
         cr_stack_fail(st, &err);
-    free(w.spheres[0]);
-    free(w.spheres[1]);
+    cr_stack_release(st, &w.slot[0]);
+    cr_stack_release(st, &w.slot[1]);
     return NULL;
 }
 
@@ -340,17 +336,14 @@ void cr_stack_run(cr_stack *st)
 int cr_stack_trace(cr_stack *st, cr_backend *b, const cr_item *it, cr_pixel *out,
                    double *seconds, cr_err *err)
 {
-    cr_sphere *spheres = malloc(sizeof *spheres * (size_t)(st->max_spheres > 0 ? st->max_spheres
-                                                                               : 1));
     const cr_pixel *px = NULL;
-    cr_frame f;
-    if (!spheres)
-        return cr_err_set(err, "out of memory");
-    if (st->ops.prepare(st->ops.ctx, it->frame, &f, spheres, err) == 0 &&
-        cr_backend_launch(b, &f, it->row0, it->rows, err) == 0)
+    const cr_frame *f = NULL;
+    void *slot = NULL;
+    if (st->ops.prepare(st->ops.ctx, it->frame, &slot, &f, err) == 0 &&
+        cr_backend_launch(b, f, it->row0, it->rows, err) == 0)
         px = cr_backend_wait(b, NULL, NULL, st->cancel, seconds, err);
     if (px)
-        memcpy(out, px, sizeof *out * (size_t)it->rows * (size_t)f.width);
-    free(spheres);
+        memcpy(out, px, sizeof *out * (size_t)it->rows * (size_t)f->width);
+    cr_stack_release(st, &slot);
     return px ? 0 : -1;
 }

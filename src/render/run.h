@@ -54,9 +54,13 @@ typedef struct cr_traced {
  * backend (0 .. n_backends - 1) or what cr_stack_deliver was given. */
 typedef struct cr_stack_ops {
     void *ctx;
-    /* Frame k, prepared into *f with its spheres in spheres[] (room for
-     * the stack's max_spheres). 0, or -1 with err set. */
-    int (*prepare)(void *ctx, int k, cr_frame *f, cr_sphere *spheres, cr_err *err);
+    /* Frame k, evaluated into a slot of the caller's: *slot is what the
+     * caller keeps there (NULL at a slot's first prepare; the caller puts
+     * there what owns the frame and its spheres, e.g. a cr_frame_eval of
+     * input/scene.h, and reuses it for the slot's next frame); *f is set to
+     * the frame, which stays valid until the slot's next prepare or its
+     * release. 0, or -1 with err set. */
+    int (*prepare)(void *ctx, int k, void **slot, const cr_frame **f, cr_err *err);
     /* A whole frame's pixels: t->item is {k, 0, height}, t->frame the frame
      * traced. 0, or -1 with err set (the run then fails with err). */
     int (*deliver)(void *ctx, int worker, const cr_traced *t, cr_err *err);
@@ -66,6 +70,9 @@ typedef struct cr_stack_ops {
     /* Progress of the worker's item in progress (cr_progress_fn). May be
      * NULL. */
     void (*progress)(void *ctx, int worker, const cr_item *it, int rows_done, int rows_total);
+    /* Free what prepare left in a slot (called once for each slot whose
+     * *slot prepare set, when the slot is done with). May be NULL. */
+    void (*release)(void *ctx, void *slot);
 } cr_stack_ops;
 
 typedef struct cr_stack {
@@ -74,7 +81,6 @@ typedef struct cr_stack {
     int frames, width, height; /* the run's frames, each width x height */
     int block_rows;            /* rows per item; height: whole frames */
     const char *skip;          /* skip[k] != 0: frame k is not traced (NULL: none) */
-    int max_spheres;           /* the prepare buffer's room */
     atomic_int *cancel;        /* non-zero: stop (may be NULL) */
     cr_backend *backends;
     int n_backends;
@@ -101,8 +107,8 @@ int cr_stack_block_rows(int frames, int height, int ranks);
  * shorter than the height only with frames == 1). Returns 0, or -1 with
  * err set (out of memory for the assembled frame, too many backends). */
 int cr_stack_init(cr_stack *st, const cr_stack_ops *ops, int frames, int width, int height,
-                  int block_rows, const char *skip, int max_spheres, atomic_int *cancel,
-                  cr_backend *backends, int n_backends, cr_err *err);
+                  int block_rows, const char *skip, atomic_int *cancel, cr_backend *backends,
+                  int n_backends, cr_err *err);
 void cr_stack_free(cr_stack *st);
 
 /* Run one worker per backend: in threads (cr_stack_start then

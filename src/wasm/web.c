@@ -14,10 +14,9 @@
 struct cr_web {
     cr_scene scene; /* animation-free: every cr_anim has a == b */
     cr_scene_sphere spheres[CR_WEB_MAX_SPHERES];
-    cr_sphere sphere_buf[CR_WEB_MAX_SPHERES];
     cr_trace_settings ts;
-    cr_frame frame;
-    int ready; /* frame evaluated without error */
+    cr_frame_eval eval; /* the evaluated frame (eval.frame) with its spheres */
+    int ready;          /* frame evaluated without error */
     int color2_default; /* accretion.color2 unset: the complement of color1 */
     char name[64];      /* the scene's name in messages (the file it is saved as) */
     cr_err err;
@@ -88,6 +87,7 @@ void cr_web_free(cr_web *w)
     if (!w)
         return;
     free(w->scene.sky_rgb);
+    cr_frame_eval_free(&w->eval);
     free(w);
 }
 
@@ -357,8 +357,7 @@ int cr_web_frame(cr_web *w, int width, int height)
     if (w->color2_default) /* (E.4.2) with ERRATA item 3, as the parser does */
         s->disc_color2 = cr_rgb_make(255 - s->disc_color1.r, 255 - s->disc_color1.g,
                                      255 - s->disc_color1.b);
-    w->ready = cr_scene_frame(&w->scene, 0, 1, width, height, &w->ts, &w->frame,
-                              w->sphere_buf, &w->err) == 0;
+    w->ready = cr_frame_eval_at(&w->eval, &w->scene, 0, 1, width, height, &w->ts, &w->err) == 0;
     return w->ready ? 0 : -1;
 }
 
@@ -369,18 +368,18 @@ const char *cr_web_message(const cr_web *w)
 
 int cr_web_width(const cr_web *w)
 {
-    return w->ready ? w->frame.width : 0;
+    return w->ready ? w->eval.frame.width : 0;
 }
 
 int cr_web_height(const cr_web *w)
 {
-    return w->ready ? w->frame.height : 0;
+    return w->ready ? w->eval.frame.height : 0;
 }
 
 int cr_web_trace(const cr_web *w, const int32_t *pix, int n, uint8_t *rgb, uint8_t *outcome,
                  double *val)
 {
-    const cr_frame *f = &w->frame;
+    const cr_frame *f = &w->eval.frame;
     int k;
     if (!w->ready)
         return 0;
@@ -413,7 +412,7 @@ int cr_web_trace(const cr_web *w, const int32_t *pix, int n, uint8_t *rgb, uint8
 
 int cr_web_probe(const cr_web *w, double x, double y, double *out)
 {
-    const cr_frame *f = &w->frame;
+    const cr_frame *f = &w->eval.frame;
     cr_pixel px;
     cr_pixel_values v;
     if (!w->ready)
@@ -499,7 +498,7 @@ static void look_copy(const cr_frame *fs, const uint8_t *sky_rgba, int ok, doubl
 int cr_web_reproject(const cr_web *view, const cr_web *sky, const uint8_t *sky_rgba,
                      uint8_t *out_rgba, int cell)
 {
-    const cr_frame *fv = &view->frame, *fs = &sky->frame;
+    const cr_frame *fv = &view->eval.frame, *fs = &sky->eval.frame;
     const int W = fv->width, H = fv->height;
     const int C = cell > 1 && W > 1 && H > 1 ? cell : 1;
     int gw, gh, gi, gj, i, j;

@@ -3,7 +3,7 @@
  *
  * The page describes a scene key by key with the scene file's own keys and
  * units (cr_web_set, cr_web_set_word); cr_web_frame then evaluates it with
- * the command line's scene evaluation (cr_scene_frame: the same checks and
+ * the command line's scene evaluation (cr_frame_eval_at: the same checks and
  * messages) into a cr_frame, and cr_web_trace traces pixels of that frame
  * with cr_trace_pixel. Every number the page shows comes from here: the
  * page computes nothing physical.
@@ -59,7 +59,7 @@ void cr_web_clear_spheres(cr_web *w);
 int cr_web_add_sphere(cr_web *w);
 
 /* Evaluate the scene into the frame to trace at width x height pixels (the
- * command line's cr_scene_frame, default raytracer settings unless set).
+ * command line's cr_frame_eval_at, default raytracer settings unless set).
  * Returns 0, or -1 with the command line's message (cr_web_message). */
 int cr_web_frame(cr_web *w, int width, int height);
 
