@@ -409,8 +409,16 @@ int cr_trace_paths(cr_run *run)
             cr_raypath_free(&rp);
             goto fail;
         }
-        cr_log_info(&run->log, "frame %d: pixel (%d, %d): %s after %u steps, %ld points in %s", k,
-                    i, j, cr_outcome_name(rp.px.outcome), rp.px.steps, rp.n, name);
+        if (rp.untraced)
+            cr_log_info(&run->log,
+                        "frame %d: pixel (%d, %d): %s, never inside the scene radius r = %g "
+                        "(the image takes it as sky untraced); its path traced to infinity in "
+                        "%u steps, %ld points in %s",
+                        k, i, j, cr_outcome_name(rp.px.outcome), 1.0 / f.w_sky * run->scene.m.a,
+                        rp.path_steps, rp.n, name);
+        else
+            cr_log_info(&run->log, "frame %d: pixel (%d, %d): %s after %u steps, %ld points in %s",
+                        k, i, j, cr_outcome_name(rp.px.outcome), rp.px.steps, rp.n, name);
         cr_raypath_free(&rp);
     }
     cr_frame_eval_free(&e);

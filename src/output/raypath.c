@@ -9,16 +9,20 @@
 
 const char cr_raypath_csv_header[] = "param,t,r,theta,phi,x,y,z,ut,ur,utheta,uphi";
 
-int cr_raypath_trace(const cr_frame *f, int i, int j, cr_raypath *out, cr_err *err)
+/* Whether the image takes pixel (i, j)'s ray as sky without tracing it: from
+ * the observer at infinity, with a plain-colour sky, a ray that never comes
+ * inside the scene radius 1/w_sky (cr_ray_misses_scene) ends at once, with
+ * no step and no point (px: what the loop reported). */
+static int cr_raypath_untraced(const cr_frame *f, const cr_pixel *px, long n)
+{
+    return n == 0 && f->obs_at_inf && px->outcome == CR_OUT_SKY && px->steps == 0 &&
+           !f->sky.rgb && f->w_sky > 0.0;
+}
+
+static int cr_raypath_record(const cr_frame *f, int i, int j, cr_raypath *out, cr_err *err)
 {
     cr_path path;
     long cap = 4096;
-    out->pts = NULL;
-    out->n = 0;
-    if (i < 0 || j < 0 || i >= f->width || j >= f->height)
-        return cr_err_set(err, "pixel (%d, %d) is outside the %dx%d frame (0 <= i < %d, "
-                               "0 <= j < %d)",
-                          i, j, f->width, f->height, f->width, f->height);
     for (;;) {
         double *buf = realloc(out->pts, (size_t)cap * CR_PN * sizeof *buf);
         if (!buf) {
@@ -35,6 +39,36 @@ int cr_raypath_trace(const cr_frame *f, int i, int j, cr_raypath *out, cr_err *e
         cap = path.n; /* the same ray again (deterministic) with room for all */
     }
     out->n = path.n;
+    return 0;
+}
+
+int cr_raypath_trace(const cr_frame *f, int i, int j, cr_raypath *out, cr_err *err)
+{
+    out->pts = NULL;
+    out->n = 0;
+    out->untraced = 0;
+    if (i < 0 || j < 0 || i >= f->width || j >= f->height)
+        return cr_err_set(err, "pixel (%d, %d) is outside the %dx%d frame (0 <= i < %d, "
+                               "0 <= j < %d)",
+                          i, j, f->width, f->height, f->width, f->height);
+    if (cr_raypath_record(f, i, j, out, err))
+        return -1;
+    if (cr_raypath_untraced(f, &out->px, out->n)) {
+        /* the same ray traced for its path alone, as with the sky at
+         * infinity (w_sky = 0): in from its first finite point, past its
+         * turning point, out to its last finite point; it meets nothing
+         * (every object lies inside the scene radius it never reaches).
+         * The pixel stays the image's. */
+        cr_frame g = *f;
+        cr_pixel px = out->px;
+        g.w_sky = 0.0;
+        cr_raypath_free(out);
+        if (cr_raypath_record(&g, i, j, out, err))
+            return -1;
+        out->path_steps = out->px.steps;
+        out->px = px;
+        out->untraced = 1;
+    }
     return 0;
 }
 
