@@ -414,7 +414,8 @@ int cr_trace_paths(cr_run *run)
                         "frame %d: pixel (%d, %d): %s, never inside the scene radius r = %g "
                         "(the image takes it as sky untraced); its path traced to infinity in "
                         "%u steps, %ld points in %s",
-                        k, i, j, cr_outcome_name(rp.px.outcome), 1.0 / f.w_sky * run->scene.m.a,
+                        k, i, j, cr_outcome_name(rp.px.outcome), 1.0 / e.frame.w_sky *
+                            cr_anim_at(run->scene.m, k, (int)run->cli.frames),
                         rp.path_steps, rp.n, name);
         else
             cr_log_info(&run->log, "frame %d: pixel (%d, %d): %s after %u steps, %ld points in %s",
