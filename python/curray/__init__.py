@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _curray
 
-__all__ = ["render", "trace", "backend_info", "OUTCOMES", "PATH_COLUMNS", "CONFIG_KEYS",
+__all__ = ["render", "trace", "orbit", "ORBIT_COLUMNS", "backend_info", "OUTCOMES", "PATH_COLUMNS", "CONFIG_KEYS",
            "__version__"]
 
 _C = _curray._constants()
@@ -207,3 +207,47 @@ def trace(scene, pixel, width, height, frame=0, frames=1, **config):
     p = RayPath((c, a[:, k].copy()) for k, c in enumerate(PATH_COLUMNS))
     p.update(outcome=outcome, hit_r=hit_r, hit_phi=hit_phi, redshift=redshift, steps=steps)
     return p
+
+
+#: columns of a worldline (see orbit), in the order of curray orbit's CSV
+#: (whose u^t, u^r, u^theta, u^phi are ut, ur, utheta, uphi here)
+ORBIT_COLUMNS = ("tau", "t", "r", "theta", "phi", "x", "y", "z", "ut", "ur", "utheta", "uphi")
+_ENDS = {0: "span", 1: "horizon", 2: "escaped"}
+
+
+class Worldline(dict):
+    """The arrays of a worldline by column name, also as attributes."""
+
+    def __getattr__(self, k):
+        try:
+            return self[k]
+        except KeyError:
+            raise AttributeError(k) from None
+
+
+def orbit(spec):
+    """The worldline of a massive or charged particle, the rows of
+    `curray orbit -s FILE` (docs/scenes.md, orbit files): spec is the path
+    of an orbit file or a dict of its keys ({"metric": {...}, "particle":
+    {...}}).
+
+    Returns a Worldline: tau (proper time), t, r, theta, phi (BL; phi
+    continuous), x, y, z (Cartesian) and ut, ur, utheta, uphi (the
+    4-velocity), one entry a row, equal to the CSV's values; and E, L, K (the
+    constants), ended ("span": followed for the whole proper time, "horizon",
+    "escaped"), steps. Bad input raises ValueError with the command line's
+    message.
+    """
+    if isinstance(spec, dict):
+        text, is_path, name = _yaml(spec), False, "(orbit dict)"
+    elif isinstance(spec, (str, bytes, os.PathLike)):
+        text = name = os.fsdecode(spec)
+        is_path = True
+    else:
+        raise ValueError("orbit: expected a dict or the path of an orbit file, got %s"
+                         % type(spec).__name__)
+    raw, n, E, L, K, ended, steps = _curray._orbit(text, is_path, name)
+    a = np.frombuffer(raw, dtype="=f8").reshape(n, len(ORBIT_COLUMNS))
+    w = Worldline((c, a[:, k].copy()) for k, c in enumerate(ORBIT_COLUMNS))
+    w.update(E=E, L=L, K=K, ended=_ENDS.get(ended, str(ended)), steps=steps)
+    return w

@@ -25,6 +25,7 @@
 #include "output/info.h"
 #include "output/output.h"
 #include "output/raypath.h"
+#include "output/worldline.h"
 #include "input/scene.h"
 #include "input/sysconfig.h"
 
@@ -438,7 +439,73 @@ static PyObject *cr_py_constants(PyObject *self, PyObject *unused)
                          CURRAY_VERSION);
 }
 
+/* The rows of a worldline, gathered (worldline.h's emit). */
+typedef struct cr_py_rows {
+    double *v;
+    size_t n, cap; /* rows */
+    int nomem;
+} cr_py_rows;
+
+static int cr_py_row(void *ctx, const double *row)
+{
+    cr_py_rows *r = (cr_py_rows *)ctx;
+    if (r->n == r->cap) {
+        size_t cap = r->cap ? 2 * r->cap : 1024;
+        double *v = (double *)realloc(r->v, cap * CR_WL_COLS * sizeof *v);
+        if (!v) {
+            r->nomem = 1;
+            return -1;
+        }
+        r->v = v;
+        r->cap = cap;
+    }
+    memcpy(r->v + r->n * CR_WL_COLS, row, CR_WL_COLS * sizeof *row);
+    r->n++;
+    return 0;
+}
+
+/* _orbit(text, is_path, name) -> (bytes of n x 12 doubles, n, E, L, K,
+ * ended, steps): the worldline of an orbit file (given as text or a path),
+ * the rows of curray orbit's CSV; integrated with the GIL released. */
+static PyObject *cr_py_orbit(PyObject *self, PyObject *args)
+{
+    const char *text, *name;
+    Py_ssize_t len;
+    int is_path, rc;
+    cr_particle_spec spec;
+    cr_worldline_info info;
+    cr_py_rows rows = {NULL, 0, 0, 0};
+    cr_err err;
+    PyThreadState *ts;
+    PyObject *out;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "s#ps", &text, &len, &is_path, &name))
+        return NULL;
+    rc = is_path ? cr_particle_spec_load(text, &spec, &err)
+                 : cr_particle_spec_load_string(text, (size_t)len, name, &spec, &err);
+    if (rc)
+        return cr_py_value_error("", &err);
+    ts = PyEval_SaveThread();
+    rc = cr_worldline_run(&spec, cr_py_row, &rows, &info, &err);
+    PyEval_RestoreThread(ts);
+    if (rows.nomem) {
+        free(rows.v);
+        return PyErr_NoMemory();
+    }
+    if (rc) {
+        free(rows.v);
+        return cr_py_value_error("", &err);
+    }
+    out = Py_BuildValue("(y#ndddil)", (const char *)rows.v,
+                        (Py_ssize_t)(rows.n * CR_WL_COLS * sizeof(double)), (Py_ssize_t)rows.n,
+                        info.E, info.L, info.K, info.ended, info.steps);
+    free(rows.v);
+    return out;
+}
+
 static PyMethodDef cr_py_methods[] = {
+    {"_orbit", cr_py_orbit, METH_VARARGS,
+     "The worldline of an orbit file (curray orbit's rows)."},
     {"_render", (PyCFunction)(void (*)(void))cr_py_render, METH_VARARGS | METH_KEYWORDS,
      "Render one frame; returns a dict of bytearrays (the arrays of render)."},
     {"_trace", (PyCFunction)(void (*)(void))cr_py_trace, METH_VARARGS | METH_KEYWORDS,

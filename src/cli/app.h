@@ -89,6 +89,9 @@ int cr_frame_kept(const cr_run *run, int k);
 
 /* setup.c. Each returns 0 to go on, or -1 when the run ends now with *rc. */
 int cr_command_line(cr_run *run, int *rc);
+
+/* `curray orbit ...` (orbit.c): argv[0] is "orbit". Returns the exit status. */
+int cr_orbit_command(int argc, char **argv);
 int cr_configure_run(cr_run *run, int *rc);
 int cr_plan(cr_run *run, int *rc);
 int cr_confirm_run(cr_run *run, int *rc);

@@ -100,6 +100,8 @@ int main(int argc, char **argv)
     cr_run run;
     int rc, ready = 0;
 
+    if (argc > 1 && strcmp(argv[1], "orbit") == 0)
+        return cr_orbit_command(argc - 1, argv + 1);
     memset(&run, 0, sizeof run);
     cr_mpi_init(&argc, &argv, &run.mpi_rank, &run.mpi_size, &run.mpi_local_rank,
                 &run.mpi_local_size);

@@ -573,3 +573,54 @@ def test_huge_frame_memory_error():
     assert 6.0 < need < 10.0, need  # 8192^2 x (a pixel + the arrays' 66 bytes)
     with pytest.raises(ValueError, match=r"^width, height: expected 1 to 65536 pixels a side"):
         curray.render(DEMO_YAML, 100000, 100000)
+
+
+# ---- orbit == curray orbit's CSV ---------------------------------------------
+
+ORBIT = {"metric": {"m": 1, "a": 0.7, "q": 0.3},
+         "particle": {"charge_to_mass": 0.8, "r": 9, "theta": 80, "phi": 10,
+                      "velocity": [0.05, 0.02, 0.36], "measured_by": "zamo",
+                      "tau": 500, "dtau": 2.5}}
+
+
+def test_orbit_equals_cli_csv(tmp_path):
+    f = tmp_path / "orbit.yml"
+    f.write_text(curray._yaml(ORBIT))
+    r = subprocess.run([BIN, "orbit", "-s", str(f), "-o", str(tmp_path / "o"), "-q"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    head, rows = read_csv(tmp_path / "o" / "orbit.csv")
+    assert head == ["tau", "t", "r", "theta", "phi", "x", "y", "z",
+                    "u^t", "u^r", "u^theta", "u^phi"]
+    for w in (curray.orbit(ORBIT), curray.orbit(str(f))):
+        assert len(w.tau) == len(rows) == 201
+        for k, c in enumerate(curray.ORBIT_COLUMNS):
+            assert np.array_equal(w[c], np.array([float(x[k]) for x in rows])), c
+        assert w.ended == "span" and w.steps > 10
+        # u.u = -1 and the Carter constant along it (independent of the C code)
+        a, q = 0.7, 0.3
+        s2, c2 = np.sin(w.theta) ** 2, np.cos(w.theta) ** 2
+        sig = w.r ** 2 + a * a * c2
+        dl = w.r ** 2 + a * a + q * q - 2 * w.r
+        A = (w.r ** 2 + a * a) ** 2 - dl * a * a * s2
+        gtt, gtp = -(dl - a * a * s2) / sig, -a * s2 * (2 * w.r - q * q) / sig
+        gpp = A * s2 / sig
+        uu = gtt * w.ut ** 2 + 2 * gtp * w.ut * w.uphi + gpp * w.uphi ** 2 + \
+            sig / dl * w.ur ** 2 + sig * w.utheta ** 2
+        assert np.max(np.abs(uu + 1)) < 1e-9
+        K = (sig * w.utheta) ** 2 + c2 * (a * a * (1 - w.E ** 2) + w.L ** 2 / s2)
+        assert np.max(np.abs(K - w.K)) < 1e-8 * (w.K + w.L ** 2)
+
+
+@pytest.mark.parametrize("particle,text", [
+    ({"velocity": [0, 0, 1.2]}, "particle.velocity: speed 1.2 is not below the speed of light"),
+    ({"velocity": [0, 0, 0], "r": 1.2}, "particle.r: the start r = 1.2 is not outside"),
+    ({"velocity": [0, 0, 0], "charge_to_mass": float("nan")}, "particle.charge_to_mass"),
+    ({}, "particle: no initial data"),
+    ({"velocity": [0, 0, 0], "circular": "prograde"}, "particle.circular: contradicts"),
+])
+def test_orbit_bad_input(particle, text):
+    p = {"r": 9, "theta": 90, "tau": 10}
+    p.update(particle)
+    with pytest.raises(ValueError, match=text.replace(".", r"\.")):
+        curray.orbit({"metric": {"m": 1, "a": 0.7, "q": 0.3}, "particle": p})

@@ -1,0 +1,56 @@
+/* curray io: the orbit file of `curray orbit` (docs/scenes.md, "Orbits of
+ * massive and charged particles"): the hole (metric) and one particle, its
+ * charge-to-mass ratio, start and initial data, and how far and how densely
+ * its worldline is written.
+ *
+ * Loading checks everything the integration needs (a speed below c, a start
+ * outside the horizon, finite q/m, exactly one kind of initial data, and
+ * that the constants allow the start): a loaded spec always starts
+ * (cr_particle_spec_start). Errors read "FILE:LINE:COL: particle.KEY: ...".
+ */
+#ifndef CR_INPUT_PARTICLE_SPEC_H
+#define CR_INPUT_PARTICLE_SPEC_H
+
+#include <stddef.h>
+
+#include "../base/error.h"
+#include "core/particle.h"
+
+/* The kinds of initial data (exactly one in a file). */
+enum {
+    CR_PSPEC_VELOCITY = 0, /* 3-velocity measured by a static observer or the ZAMO */
+    CR_PSPEC_CONSTANTS = 1, /* E, L, K and the signs of dr, dtheta */
+    CR_PSPEC_CIRCULAR = 2  /* the circular equatorial geodesic at r */
+};
+
+typedef struct cr_particle_spec {
+    cr_metric mt;
+    double qm;              /* charge-to-mass ratio q/m */
+    double r, theta, phi;   /* start, BL (radians) */
+    double t0;              /* coordinate time at the start */
+    int kind;               /* CR_PSPEC_* */
+    double v[3];            /* CR_PSPEC_VELOCITY: (v_r, v_theta, v_phi) */
+    int measured_by;        /* CR_PARTICLE_OBS_STATIC or _ZAMO */
+    double E, L, K;         /* CR_PSPEC_CONSTANTS */
+    int sr, sth;            /* signs of dr and dtheta (+1 outward, south) */
+    int retrograde;         /* CR_PSPEC_CIRCULAR */
+    double tau;             /* proper time to follow */
+    double dtau;            /* output spacing in proper time */
+    double tolerance;       /* DP5 tolerance */
+    double r_max;           /* escape radius */
+    double horizon_epsilon; /* the worldline ends at r+ + this */
+} cr_particle_spec;
+
+/* Largest number of rows a worldline may have (tau / dtau). */
+#define CR_PSPEC_MAX_ROWS 10000000.0
+
+/* Load and check an orbit file (from a path, or from text named name). */
+int cr_particle_spec_load(const char *path, cr_particle_spec *s, cr_err *err);
+int cr_particle_spec_load_string(const char *text, size_t len, const char *name,
+                                 cr_particle_spec *s, cr_err *err);
+
+/* Start the particle of a loaded spec. Returns 1 (0 only for a spec that
+ * did not come from the loader). */
+int cr_particle_spec_start(const cr_particle_spec *s, cr_particle *p);
+
+#endif
