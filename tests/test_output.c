@@ -1217,8 +1217,16 @@ static void test_info_keplerian(void **state)
     static const char *const want1[] = {
         "  r_isco                 6 M (12 in the scene's units)\n",
         "  effective inner radius 6 M (12 in the scene's units)\n",
+        "  frames                 1\n  animation              " CR_INFO_ONE_FRAME_OF_ANIMATION "\n",
+        "  spin a = J/M           0 -> 1.8\n",
     };
     expect_lines(t, want1, sizeof want1 / sizeof want1[0]);
+    free(t);
+    /* the same scene in 5 frames: start to end, no such line */
+    info_ends(&s, 5, fr, &run);
+    assert_int_equal(cr_info_write(f->dir, &run, &s, &cfg, NULL, 0, &err), 0);
+    t = read_all(path, NULL);
+    assert_null(strstr(t, "animation "));
     free(t);
     /* without frames, the lines derived per frame are left out */
     assert_int_equal(cr_info_write(f->dir, NULL, &s, &cfg, NULL, 0, &err), 0);
@@ -1227,13 +1235,15 @@ static void test_info_keplerian(void **state)
     assert_null(strstr(t, "r_isco"));
     assert_null(strstr(t, "effective inner radius"));
     free(t);
-    /* retrograde, inner radius omitted: the ISCO */
+    /* retrograde, inner radius omitted: the ISCO; nothing animated, one
+       frame: no animation line */
     s.a = (cr_anim){1.8, 1.8};
     s.disc_retrograde = 1;
     s.disc_has_r_in = 0;
     info_ends(&s, 1, fr, &run);
     assert_int_equal(cr_info_write(f->dir, &run, &s, &cfg, NULL, 0, &err), 0);
     t = read_all(path, NULL);
+    assert_null(strstr(t, "animation "));
     static const char *const want2[] = {
         "  orbit sense            retrograde (clockwise about +z)\n",
         "  inner radius           the ISCO\n",

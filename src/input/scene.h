@@ -131,6 +131,9 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
  * order, and returns their number (0: nothing to say). */
 int cr_scene_hints(const cr_scene *s, int n, cr_err *hints, int max_hints);
 
+/* 1 when any number of the scene is animated ([linear, a, b] with a != b). */
+int cr_scene_animated(const cr_scene *s);
+
 /* An evaluated frame with the sphere array it points into, owned together:
  * cr_frame_eval_at evaluates frame k of n into e->frame (as cr_scene_frame),
  * growing e's sphere array when the scene has more spheres than it holds.

@@ -576,9 +576,9 @@ void cr_frame_eval_free(cr_frame_eval *e)
     memset(e, 0, sizeof *e);
 }
 
-/* Is any number of the scene animated ([linear, a, b] with a != b)? Every
- * cr_anim of cr_scene is listed here; a new animatable key belongs here too. */
-static int scene_animated(const cr_scene *s)
+/* (scene.h) Every cr_anim of cr_scene is listed here; a new animatable key
+ * belongs here too. */
+int cr_scene_animated(const cr_scene *s)
 {
     const cr_anim *v[] = {&s->m,         &s->a,        &s->q,          &s->obs_r,
                           &s->obs_theta, &s->obs_phi,  &s->roll,       &s->pitch,
@@ -643,7 +643,7 @@ int cr_scene_hints(const cr_scene *s, int n, cr_err *hints, int max_hints)
                        "frames (first in frame %d): it cannot be seen there",
                        j, p->line, inside, n, first);
     }
-    if (n > 1 && !scene_animated(s) && count < max_hints)
+    if (n > 1 && !cr_scene_animated(s) && count < max_hints)
         cr_err_set(&hints[count++],
                    "-f %d: nothing in the scene is animated (no [linear, start, end] value), so "
                    "all %d frames are the same image",

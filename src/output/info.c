@@ -331,6 +331,8 @@ static void cr_info_header(FILE *fp, const cr_run_info *run, const cr_scene *sce
         fprintf(fp, "  %-22s %s\n", "backend", run->backend ? run->backend : "(unknown)");
         fprintf(fp, "  %-22s %d x %d pixels\n", "frame size", run->width, run->height);
         fprintf(fp, "  %-22s %d\n", "frames", run->frames);
+        if (run->frames == 1 && scene && cr_scene_animated(scene))
+            fprintf(fp, "  %-22s %s\n", "animation", CR_INFO_ONE_FRAME_OF_ANIMATION);
         fprintf(fp, "  %-22s %s\n", "output types", run->output_types ? run->output_types : "");
         if (run->hash)
             fprintf(fp, "  %-22s %s\n", "run hash", run->hash);

@@ -23,6 +23,16 @@
 #include "../input/scene.h"
 #include "../input/sysconfig.h"
 
+/* What info.txt's Run section says of a run of one frame of an animated
+ * scene: that frame is the animation's start (cr_anim_at of frame 0 of 1),
+ * so the scene's "start -> end" values below were traced at their start,
+ * and the values derived per frame (the Keplerian disc's r_isco, ...) are
+ * that frame's. */
+#define CR_INFO_ONE_FRAME_OF_ANIMATION                                                         \
+    "the scene is animated, but 1 frame traces only its start (each [linear, start, end] "     \
+    "at start; the values derived per frame below are that frame's); -f N > 1 traces start "   \
+    "to end"
+
 /* What info.txt and the console say after the count of rays that ended on
  * the step or turn limit (outcome "limit", painted in the scene's
  * limit_color). */
