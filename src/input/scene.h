@@ -109,7 +109,10 @@ void cr_scene_free(cr_scene *s);
 
 /* Evaluate frame k of n (0 <= k < n) at width x height pixels into *f
  * (spheres written to sphere_buf, which must hold s->n_spheres entries and
- * outlive f), including cr_frame_prepare. ts == NULL takes the defaults
+ * outlive f), including cr_frame_prepare. The program's callers (the
+ * command line, Python, the web build) evaluate frames with
+ * cr_frame_eval_at below, which owns the spheres; this is its step (and
+ * the tests'). ts == NULL takes the defaults
  * (cr_trace_defaults). Messages name the frame as "frame k of n" (k counted
  * from 0, like the output files) when n > 1. Returns -1 with a clear message when this frame's values
  * are physically impossible (ERRATA item 4): no horizon (M <= 0 or
