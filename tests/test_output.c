@@ -687,6 +687,9 @@ static void make_frame(cr_pixel *px, int w, int h)
         /* hit point: set on every pixel; written only for disc and sphere */
         p->hit_r = i % 7 == 0 ? special[i % 9] : 2.0 + (double)rnd() / (double)rnd();
         p->hit_phi = i % 11 == 0 ? 0.0 : CR_TWO_PI * ((double)rnd() / 4294967296.0);
+        /* the counts: -1 (no ray traced to an end), 0, small and the cap */
+        p->order = (int16_t)(i % 13 == 0 ? -1 : i % 13 == 1 ? CR_COUNT_MAX : (int)(rnd() % 5));
+        p->theta_turns = (int16_t)(i % 17 == 0 ? -1 : (int)(rnd() % 7));
     }
 }
 
@@ -711,20 +714,23 @@ static void test_csv_roundtrip(void **state)
     assert_non_null(fgets(line, sizeof line, fp));
     assert_string_equal(line,
                         "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,"
-                        "bolometric\n");
+                        "bolometric,order,theta_turns\n");
     for (int i = 0; i < W * H; i++) {
         int x, y, n_hit = 0;
         unsigned r, g, b, steps;
         double z, em, es, hr, hp;
-        char name[32];
+        char name[32], counts[64];
         assert_non_null(fgets(line, sizeof line, fp));
         assert_int_equal(sscanf(line, "%d,%d,%u,%u,%u,%u,%lf,%lf,%lf,%31[a-z],%lf,%lf%n", &x, &y,
                                 &r, &g, &b, &steps, &z, &em, &es, name, &hr, &hp, &n_hit),
                          12);
         /* then the bolometric column: -1 except on a Keplerian disc hit */
-        assert_string_equal(line + n_hit,
-                            px[i].outcome == CR_OUT_DISC && px[i].bolo >= 0.0 ? line + n_hit
-                                                                               : ",-1\n");
+        if (!(px[i].outcome == CR_OUT_DISC && px[i].bolo >= 0.0))
+            assert_memory_equal(line + n_hit, ",-1,", 4);
+        /* the counts, as the pixel holds them */
+        snprintf(counts, sizeof counts, ",%d,%d\n", px[i].order, px[i].theta_turns);
+        assert_true(strlen(line) > strlen(counts));
+        assert_string_equal(line + strlen(line) - strlen(counts), counts);
         if (px[i].outcome == CR_OUT_DISC || px[i].outcome == CR_OUT_SPHERE) {
             assert_true(hr == px[i].hit_r); /* exact: the shortest form reads back */
             assert_true(hp == px[i].hit_phi);
@@ -768,6 +774,9 @@ static void test_csv_shortest(void **state)
     px[0].hit_phi = 5e-324;
     px[0].bolo = 0.3;
     px[0].steps = 17;
+    px[0].order = 2;
+    px[0].theta_turns = 1;
+    px[1].order = -1;
     px[1].outcome = CR_OUT_SKY;
     px[1].redshift = -0.0;
     px[1].err_mean = 123456789012345678.0;
@@ -776,11 +785,11 @@ static void test_csv_shortest(void **state)
     join(path, f, "d_0.csv");
     t = read_all(path, NULL);
     assert_string_equal(t, "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,"
-                           "bolometric\n"
+                           "bolometric,order,theta_turns\n"
                            "0,0,0,0,0,17,0.1,1e-05,0.6666666666666666,disc,6.02214076e+23,"
-                           "5e-324,0.3\n"
+                           "5e-324,0.3,2,1\n"
                            "1,0,0,0,0,0,-0,1.2345678901234568e+17,10000000000000000,sky,-1,-1,"
-                           "-1\n");
+                           "-1,-1,0\n");
     free(t);
 }
 
@@ -819,6 +828,40 @@ static void test_frame_pngs(void **state)
     /* redshift_sky: the sky pixels (outcome 4) coloured by their ratio */
     assert_int_equal(cr_output_redshift_png(f->dir, 4, px, W, H, 1, &err), 0);
     assert_png_is(f, "r_4.png", px, W, H, cr_redshift_sky_color);
+
+    /* n_<k>.png: the colour of each hit's image order, black elsewhere */
+    {
+        static const struct {
+            uint8_t outcome;
+            int order;
+            cr_rgb c;
+        } want[] = {{CR_OUT_DISC, 0, {255, 176, 64}},   {CR_OUT_DISC, 1, {64, 160, 255}},
+                    {CR_OUT_SPHERE, 2, {96, 255, 96}},  {CR_OUT_DISC, 3, {255, 64, 255}},
+                    {CR_OUT_DISC, 4, {255, 255, 255}},  {CR_OUT_DISC, 900, {255, 255, 255}},
+                    {CR_OUT_SKY, 1, {0, 0, 0}},         {CR_OUT_HORIZON, 2, {0, 0, 0}},
+                    {CR_OUT_DISC, -1, {0, 0, 0}}};
+        cr_frame fr;
+        cr_frame_output o;
+        memset(&fr, 0, sizeof fr);
+        fr.width = W;
+        fr.height = H;
+        memset(&o, 0, sizeof o);
+        o.dir = f->dir;
+        o.k = 5;
+        o.frame = &fr;
+        o.px = px;
+        for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+            cr_rgb c;
+            px[i].outcome = want[i].outcome;
+            px[i].order = (int16_t)want[i].order;
+            c = cr_order_color(&px[i]);
+            assert_int_equal(c.r, want[i].c.r);
+            assert_int_equal(c.g, want[i].c.g);
+            assert_int_equal(c.b, want[i].c.b);
+        }
+        assert_int_equal(cr_output_write_order(&o, &err), 0);
+        assert_png_is(f, "n_5.png", px, W, H, cr_order_color);
+    }
 
     /* missing output folder: the message names the file */
     char missing[4096];
@@ -1055,12 +1098,12 @@ static void test_info(void **state)
 static void test_output_types(void **state)
 {
     fixture *f = *state;
-    static const char *const list = "use any of i, c, r, d, b, f, v";
+    static const char *const list = "use any of i, c, r, d, b, n, f, v";
     cr_err err;
     char want[256], one[2] = {0, 0}, bad[3] = {'c', 0, 0}, out[16], path[4096];
     int n = cr_output_type_count(), frames = 0;
 
-    assert_int_equal(n, 7);
+    assert_int_equal(n, 8);
     for (int i = 0; i < n; i++) {
         const cr_output_type *t = cr_output_type_at(i);
         assert_ptr_equal(cr_output_type_find(t->letter), t);
@@ -1077,7 +1120,7 @@ static void test_output_types(void **state)
         }
         frames += t->scope == CR_OUTPUT_PER_FRAME;
     }
-    assert_int_equal(frames, 5);
+    assert_int_equal(frames, 6);
     assert_null(cr_output_type_at(n));
     assert_null(cr_output_type_at(-1));
     for (int c = 1; c < 256; c++) {
@@ -1100,6 +1143,8 @@ static void test_output_types(void **state)
     assert_string_equal(out, "cd");
     cr_output_frame_letters("fbdrcfcv", out, sizeof out);
     assert_string_equal(out, "crdbf");
+    cr_output_frame_letters("fnc", out, sizeof out);
+    assert_string_equal(out, "cnf");
     cr_output_frame_letters("iv", out, sizeof out);
     assert_string_equal(out, "c");
     cr_output_frame_letters("i", out, sizeof out);

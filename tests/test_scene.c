@@ -1192,7 +1192,7 @@ static void test_error_exact_message(void **state)
                           &s, &e),
                      -1);
     assert_string_equal(e.msg, "scene.yml:11:3: unknown key 'colour' in accretion (expected one "
-                               "of: color1, color2, resolution, yaw, radius, model, retrograde, "
+                               "of: color1, color2, resolution, yaw, radius, model, order, retrograde, "
                                "temperature, inside_isco, mass_msun, mdot_edd)");
     assert_int_equal(load("metric: {m: 1, a: 0, q: 0}\n"
                           "observer:\n"

@@ -85,7 +85,8 @@ static const cr_cli_option cr_cli_options[] = {
      "any of i (info.txt), c (c_<k>.png colour),\n"
      "r (r_<k>.png redshift), d (d_<k>.csv pixel data),\n"
      "f (f_<k>.fits: redshift, hit, outcome, steps, error),\n"
-     "b (b_<k>.png bolometric g^4 F, Keplerian disc);\n"
+     "b (b_<k>.png bolometric g^4 F, Keplerian disc),\n"
+     "n (n_<k>.png image order: direct image, rings);\n"
      "v (c.mp4, plus r.mp4 with r: MP4 videos);\n"
      "default icr",
      0, NULL},

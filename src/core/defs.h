@@ -141,6 +141,11 @@ typedef struct cr_disc {
     double E_isco, L_isco;
     double r_hit_in; /* derived (cr_frame_prepare): the smallest BL radius where
                         rays meet the disc: r+ with plunging matter, else r_in */
+    int order_sel;   /* accretion.order N: N + 1, the disc is met only on
+                        the ray's equator crossing of order N (0 the direct
+                        image, 1 the first ring, ...), rays pass through it
+                        on the others; 0 (the default, a zeroed frame's):
+                        met on every crossing */
 } cr_disc;
 
 /* A sphere defined in the Cartesian coordinates (2.2.8). Centre at BL
@@ -264,9 +269,16 @@ typedef struct cr_pixel {
                     plunging matter; -1 for every other outcome or disc */
     uint32_t steps;
     int16_t object;
+    /* the image order: equator crossings (theta = pi/2) before the hit, or
+       before the ray ended without one; polar turning points (sign changes
+       of d cos(theta)) before the same point; both capped at CR_COUNT_MAX */
+    int16_t order, theta_turns;
     uint8_t outcome;
     cr_rgb color;
 } cr_pixel;
+
+/* The largest count cr_pixel.order and theta_turns hold. */
+#define CR_COUNT_MAX 32767
 
 CR_HD static inline int cr_isfinite(double x)
 {

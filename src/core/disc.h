@@ -124,17 +124,19 @@ CR_HD static inline cr_rgb cr_disc_keplerian_color(const cr_disc *d, double r, d
 
 /* The disc's event of the current step: where the step crosses the plane
  * theta = pi/2 (cr_ray_event_locate), counted when the crossing lies between
- * r_hit_in and r_out at a radius the ray reaches (cr_ray_outside_stop).
+ * r_hit_in and r_out at a radius the ray reaches (cr_ray_outside_stop) and,
+ * with disc.order_sel = N + 1, is the ray's crossing of order N (N
+ * crossings before it, ray->n_cross).
  * Returns 1 with h set on a hit (index: the face the ray comes from, 0 top,
  * 1 bottom), else 0. */
 CR_HD static inline int cr_disc_event(const cr_frame *f, const cr_ray *ray, cr_hit *h)
 {
     double v0, v1, s, rr, th, ph;
-    if (!f->disc.enabled)
+    if (!f->disc.enabled || (f->disc.order_sel > 0 && ray->n_cross != f->disc.order_sel - 1))
         return 0;
     v0 = cr_ray_event_value(f, ray, CR_EV_DISC, cr_ray_y0(ray));
     v1 = cr_ray_event_value(f, ray, CR_EV_DISC, cr_ray_y1(ray));
-    if (v0 == 0.0 || (v0 < 0.0) == (v1 < 0.0))
+    if (!cr_ray_sign_change(v0, v1))
         return 0;
     s = cr_ray_event_locate(f, ray, CR_EV_DISC, v0, 1.0, v1, h->y);
     cr_ray_position(ray, h->y, &rr, &th, &ph);

@@ -55,6 +55,11 @@ typedef struct cr_ray {
      * state), the observer's side of every frequency ratio (cr_frame_shift);
      * set by cr_ray_mino_start and cr_ray_from_bl. */
     double p_obs[4];
+    /* Counts along the ray so far, of either integrator (the trace loop's,
+     * trace.h): crossings of the disc plane (cr_ray_event_value CR_EV_DISC
+     * changing sign over a step) and polar turning points (sign changes of
+     * cr_ray_polar_rate); set to 0 by cr_trace_start. */
+    int n_cross, n_turn;
 } cr_ray;
 
 /* The ray's current state (the start of the current step) and the end of
@@ -268,6 +273,22 @@ CR_HD static inline double cr_ray_event_value(const cr_frame *f, const cr_ray *r
     if (ev == CR_EV_DISC)
         return ray->kind == CR_INTEG_MINO ? -y[CR_M_NZ] : y[CR_Y_TH] - 0.5 * CR_PI;
     return y[CR_M_W] - f->w_sky;
+}
+
+/* Whether a value that is v0 at a step's start and v1 at its end changes
+ * sign over the step (an event crossed; a start exactly on it is not). */
+CR_HD static inline int cr_ray_sign_change(double v0, double v1)
+{
+    return v0 != 0.0 && (v0 < 0.0) != (v1 < 0.0);
+}
+
+/* A multiple of d cos(theta) / dparameter at state y of the ray's
+ * integrator, with its sign (zero at a polar turning point): under Mino
+ * dn_z/dtau, under RK4 -sin(theta) u^theta, which keeps its sign through the
+ * polar axis fold (theta -> -theta, u^theta -> -u^theta). */
+CR_HD static inline double cr_ray_polar_rate(const cr_ray *ray, const double *y)
+{
+    return ray->kind == CR_INTEG_MINO ? y[CR_M_DNZ] : -sin(y[CR_Y_TH]) * y[CR_Y_UTH];
 }
 
 /* Locate the root of coordinate event ev inside the current step, where the

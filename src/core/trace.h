@@ -48,12 +48,33 @@ CR_HD static inline void cr_trace_start(const cr_frame *f, cr_ray *ray, cr_pixel
     px->hit_r = px->hit_phi = -1.0;
     px->bolo = -1.0;
     px->object = -1;
+    px->order = px->theta_turns = -1;
     px->outcome = CR_OUT_NONE;
     px->color = f->error_color;
+    ray->n_cross = ray->n_turn = 0;
     if (f->n_spheres > 0)
         cr_ray_cart(f, ray, cr_ray_y0(ray), x0);
     if (ray->path)
         cr_path_begin(f, ray, ray->path);
+}
+
+/* The disc-plane crossing and the polar turning point of the current step,
+ * if any, from its start to state y (its end), added to the ray's counts
+ * (cr_ray.n_cross, n_turn). */
+CR_HD static inline void cr_trace_count(const cr_frame *f, cr_ray *ray, const double *y)
+{
+    const double *y0 = cr_ray_y0(ray);
+    ray->n_cross += cr_ray_sign_change(cr_ray_event_value(f, ray, CR_EV_DISC, y0),
+                                       cr_ray_event_value(f, ray, CR_EV_DISC, y));
+    ray->n_turn += cr_ray_sign_change(cr_ray_polar_rate(ray, y0), cr_ray_polar_rate(ray, y));
+}
+
+/* The ray's counts into its pixel (at its end; a hit's step adds its turning
+ * point before the hit state y first, the crossing hit is not counted). */
+CR_HD static inline void cr_trace_counts_out(const cr_ray *ray, cr_pixel *px)
+{
+    px->order = (int16_t)(ray->n_cross < CR_COUNT_MAX ? ray->n_cross : CR_COUNT_MAX);
+    px->theta_turns = (int16_t)(ray->n_turn < CR_COUNT_MAX ? ray->n_turn : CR_COUNT_MAX);
 }
 
 /* The ray reached the horizon stop: light from the horizon is infinitely
@@ -80,12 +101,14 @@ CR_HD static inline int cr_trace_find_hit(const cr_frame *f, const cr_ray *ray, 
 }
 
 /* Shade the chosen hit (what: CR_OUT_DISC or CR_OUT_SPHERE), the path's last
- * point at it. */
-CR_HD static inline void cr_trace_shade_hit(const cr_frame *f, const cr_ray *ray, int what,
+ * point at it, and the polar turning point of the step before it. */
+CR_HD static inline void cr_trace_shade_hit(const cr_frame *f, cr_ray *ray, int what,
                                             const cr_hit *disc, const cr_hit *sphere,
                                             cr_pixel *px)
 {
     const cr_hit *h = what == CR_OUT_SPHERE ? sphere : disc;
+    ray->n_turn += cr_ray_sign_change(cr_ray_polar_rate(ray, cr_ray_y0(ray)),
+                                      cr_ray_polar_rate(ray, h->y));
     if (ray->path)
         cr_path_step(f, ray, ray->path, h->s);
     if (what == CR_OUT_SPHERE)
@@ -142,8 +165,11 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
         }
         if (ray->path)
             cr_path_step(f, ray, ray->path, 1.0);
+        cr_trace_count(f, ray, cr_ray_y1(ray));
         cr_ray_commit(f, ray, &turns);
     }
+    if (px.outcome != CR_OUT_ERROR)
+        cr_trace_counts_out(ray, &px);
     cr_trace_finish(&px, steps, &mon);
     return px;
 }
@@ -175,6 +201,7 @@ CR_HD static inline cr_pixel cr_trace_point_path(const cr_frame *f, double x, do
         px.err_mean = px.err_std = 0.0;
         px.steps = 0;
         px.object = -1;
+        px.order = px.theta_turns = -1;
         px.outcome = CR_OUT_OUTSIDE;
         px.color = cr_rgb_make(0, 0, 0);
         if (path) {

@@ -74,6 +74,8 @@ typedef struct cr_scene {
     int disc_plunge;         /* keplerian: inside_isco: plunging (1) or nothing (0) */
     double disc_mass_msun;   /* keplerian: hole's mass in solar masses, 0 = unset */
     double disc_mdot_edd;    /* keplerian: accretion rate in Eddington units, 0 = unset */
+    int disc_order;          /* accretion.order: the disc only in that image order
+                                (cr_disc.order_sel), -1 (default) in all */
 
     int has_sky;
     char *sky_image;      /* path as resolved relative to the scene file's folder */

@@ -305,6 +305,7 @@ static int frame_disc(const cr_scene *s, int k, int n, cr_disc *d, cr_err *err)
     d->n_radial = s->disc_n_radial;
     d->n_sectors = s->disc_n_sectors;
     d->model = s->disc_model;
+    d->order_sel = s->disc_order >= 0 ? s->disc_order + 1 : 0;
     if (eval(s->disc_yaw, k, n, &d->yaw) || eval(s->disc_r_in, k, n, &d->r_in) ||
         eval(s->disc_r_out, k, n, &d->r_out))
         return frame_fail(err, s, k, n, "accretion: a value is not a finite number");

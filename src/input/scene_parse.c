@@ -396,7 +396,7 @@ static int positive_number(cr_yaml *y, const cr_yaml_field *f, const char *path,
  * first (COLOR1 .. YAW), the Keplerian disc's last (RETRO .. MDOT), so that
  * refuse_keys names the other model's keys by range. */
 enum accretion_key {
-    ACC_COLOR1, ACC_COLOR2, ACC_RESOLUTION, ACC_YAW, ACC_RADIUS, ACC_MODEL,
+    ACC_COLOR1, ACC_COLOR2, ACC_RESOLUTION, ACC_YAW, ACC_RADIUS, ACC_MODEL, ACC_ORDER,
     ACC_RETRO, ACC_TEMP, ACC_INSIDE, ACC_MASS, ACC_MDOT, ACC_N
 };
 
@@ -561,13 +561,15 @@ static int parse_chessboard(cr_yaml *y, const cr_yaml_field *f, yaml_mark_t wher
  * retrograde (default false), inside_isco (nothing, the default, or
  * plunging), and either temperature (the peak temperature in K, default 1e4)
  * or mass_msun and mdot_edd (the hole's mass in solar masses and the
- * accretion rate in Eddington units). Keys of the other model are errors. */
+ * accretion rate in Eddington units). Either model takes order (the one
+ * image order in which the disc is seen). Keys of the other model are
+ * errors. */
 static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
                            cr_err *err)
 {
     cr_yaml_field f[ACC_N] = {OPT("color1"),     OPT("color2"),      OPT("resolution"),
                               OPT("yaw"),        OPT("radius"),      OPT("model"),
-                              OPT("retrograde"), OPT("temperature"), OPT("inside_isco"),
+                              OPT("order"),      OPT("retrograde"), OPT("temperature"), OPT("inside_isco"),
                               OPT("mass_msun"),  OPT("mdot_edd")};
     const char *p = "accretion";
     char sub[CR_YAML_PATH];
@@ -582,6 +584,15 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
         if (get_choice(y, f[ACC_MODEL].value, sub, "disc model", CR_NAMES_DISC_MODEL,
                        "one of: %s", &s->disc_model, err))
             return -1;
+    }
+    s->disc_order = -1;
+    if (f[ACC_ORDER].value) {
+        long v;
+        cr_yaml_path_key(sub, sizeof sub, p, "order");
+        if (cr_yaml_int(y, f[ACC_ORDER].value, sub, 0, CR_COUNT_MAX - 1,
+                        "an image order (0 the direct image, 1 the first ring, ...)", &v, err))
+            return -1;
+        s->disc_order = (int)v;
     }
     s->disc_retrograde = 0;
     s->disc_temperature = 1e4;

@@ -16,9 +16,9 @@
 
 double cr_fits_memory(int w, int h)
 {
-    /* 6 x 8 + 4 + 1 bytes a pixel; 9 HDUs of keywords, a few 2880-byte
-     * blocks each; one row of doubles */
-    return 53.0 * (double)w * (double)h + 9.0 * 4.0 * 2880.0 + 8.0 * (double)w;
+    /* 6 x 8 + 4 + 1 + 2 x 2 bytes a pixel; 11 HDUs of keywords, a few
+     * 2880-byte blocks each; one row of doubles */
+    return 57.0 * (double)w * (double)h + 11.0 * 4.0 * 2880.0 + 8.0 * (double)w;
 }
 
 /* What curray_fits.so gives the program (module.h). */
@@ -83,7 +83,7 @@ int cr_fits_available(cr_err *err)
 
 /* Quantities of the image extensions. */
 enum { CR_F_REDSHIFT, CR_F_HIT_R, CR_F_HIT_PHI, CR_F_BOLO, CR_F_OUTCOME, CR_F_STEPS, CR_F_ERR,
-       CR_F_STD, CR_F_N };
+       CR_F_STD, CR_F_ORDER, CR_F_THTURNS, CR_F_N };
 
 static const struct {
     const char *name, *unit, *comment;
@@ -96,6 +96,8 @@ static const struct {
     {"STEPS", "", "integrator steps of the pixel"},
     {"NULLERR", "", "mean of the ray's error monitor"},
     {"NULLSTD", "", "standard deviation of the error monitor"},
+    {"ORDER", "", "equator crossings before the hit or end; -1: none"},
+    {"THTURNS", "", "polar turning points before it; -1: none"},
 };
 
 /* Value of quantity q at pixel p, the CSV's (cr_pixel_csv_values), NaN
@@ -167,8 +169,12 @@ static void cr_fits_image(fitsfile *ff, int q, const cr_pixel *px, int w, int h,
 {
     long naxes[2];
     int y, x;
-    int bitpix = q == CR_F_OUTCOME ? BYTE_IMG : q == CR_F_STEPS ? ULONG_IMG : DOUBLE_IMG;
-    int type = q == CR_F_OUTCOME ? TBYTE : q == CR_F_STEPS ? TUINT : TDOUBLE;
+    int count = q == CR_F_ORDER || q == CR_F_THTURNS;
+    int bitpix = q == CR_F_OUTCOME ? BYTE_IMG
+                 : q == CR_F_STEPS ? ULONG_IMG
+                 : count           ? SHORT_IMG
+                                   : DOUBLE_IMG;
+    int type = q == CR_F_OUTCOME ? TBYTE : q == CR_F_STEPS ? TUINT : count ? TSHORT : TDOUBLE;
     naxes[0] = w;
     naxes[1] = h;
     fits_create_img(ff, bitpix, 2, naxes, st);
@@ -181,6 +187,10 @@ static void cr_fits_image(fitsfile *ff, int q, const cr_pixel *px, int w, int h,
                 ((unsigned char *)row)[x] = p[x].outcome;
             else if (q == CR_F_STEPS)
                 ((unsigned int *)row)[x] = p[x].steps;
+            else if (count) {
+                cr_pixel_values v = cr_pixel_csv_values(&p[x]);
+                ((short *)row)[x] = (short)(q == CR_F_ORDER ? v.order : v.theta_turns);
+            }
             else
                 ((double *)row)[x] = cr_fits_value(q, &p[x]);
         }

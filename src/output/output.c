@@ -84,6 +84,16 @@ cr_rgb cr_bolometric_color(const cr_pixel *p)
     return c;
 }
 
+cr_rgb cr_order_color(const cr_pixel *p)
+{
+    static const cr_rgb pal[5] = {
+        {255, 176, 64}, {64, 160, 255}, {96, 255, 96}, {255, 64, 255}, {255, 255, 255}};
+    cr_rgb c = {0, 0, 0};
+    if ((p->outcome != CR_OUT_DISC && p->outcome != CR_OUT_SPHERE) || p->order < 0)
+        return c;
+    return pal[p->order < 4 ? p->order : 4];
+}
+
 static int cr_frame_path(char *out, size_t n, const char *dir, const char *prefix, int k,
                          const char *ext, cr_err *err)
 {
@@ -161,6 +171,16 @@ static char *cr_put_uint(char *p, unsigned long v)
     return p;
 }
 
+/* Decimal digits of a count v >= -1 at p; returns the end. */
+static char *cr_put_int(char *p, int v)
+{
+    if (v < 0) {
+        *p++ = '-';
+        return cr_put_uint(p, (unsigned long)-(long)v);
+    }
+    return cr_put_uint(p, (unsigned long)v);
+}
+
 /* The shortest text that strtod reads back as v (shortest.h). */
 static char *cr_put_double(char *p, double v)
 {
@@ -176,7 +196,7 @@ static char *cr_put_double(char *p, double v)
     return p + cr_shortest_double(p, v);
 }
 
-static const char *const cr_csv_header = "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric\n";
+static const char *const cr_csv_header = "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric,order,theta_turns\n";
 
 int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, int h,
                          cr_err *err)
@@ -219,6 +239,10 @@ int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, 
             p = cr_put_double(p, v.hit_phi);
             *p++ = ',';
             p = cr_put_double(p, v.bolometric);
+            *p++ = ',';
+            p = cr_put_int(p, v.order);
+            *p++ = ',';
+            p = cr_put_int(p, v.theta_turns);
             *p++ = '\n';
             fwrite(line, 1, (size_t)(p - line), fp);
         }
@@ -275,4 +299,10 @@ int cr_output_write_csv(const cr_frame_output *o, cr_err *err)
 int cr_output_write_bolometric(const cr_frame_output *o, cr_err *err)
 {
     return cr_output_bolometric_png(o->dir, o->k, o->px, o->frame->width, o->frame->height, err);
+}
+
+int cr_output_write_order(const cr_frame_output *o, cr_err *err)
+{
+    return cr_output_png(o->dir, "n", o->k, o->px, o->frame->width, o->frame->height,
+                         cr_order_color, err);
 }

@@ -30,6 +30,12 @@ cr_rgb cr_redshift_sky_color(const cr_pixel *p);
  * black; black for every other pixel. */
 cr_rgb cr_bolometric_color(const cr_pixel *p);
 
+/* Image-order map colour of one pixel (n_<k>.png): a disc or sphere hit in
+ * the colour of its order (cr_pixel.order): 0 orange (255, 176, 64), 1 blue
+ * (64, 160, 255), 2 green (96, 255, 96), 3 magenta (255, 64, 255), 4 and
+ * above white; black for every other pixel. */
+cr_rgb cr_order_color(const cr_pixel *p);
+
 /* The CSV's floating-point values of one pixel, -1 where the CSV writes
  * "undefined": redshift where no source was reached (outcome none, error,
  * limit or outside, or a NaN ratio); hit_r, hit_phi unless the ray hit the disc or a
@@ -38,6 +44,8 @@ cr_rgb cr_bolometric_color(const cr_pixel *p);
  * and the Python arrays. */
 typedef struct cr_pixel_values {
     double redshift, hit_r, hit_phi, bolometric;
+    int order, theta_turns; /* cr_pixel's: -1 where no ray was traced to an
+                               end (outcome none, outside, error) */
 } cr_pixel_values;
 /* (inline: the CSV writer calls it for every pixel, and the FITS module
  * (module.h) has it without the rest of the writers) */
@@ -55,6 +63,8 @@ static inline cr_pixel_values cr_pixel_csv_values(const cr_pixel *q)
     v.hit_phi = hit ? q->hit_phi : -1.0;
     /* g^4 F / F_max on a Keplerian disc hit */
     v.bolometric = q->outcome == CR_OUT_DISC && q->bolo >= 0.0 ? q->bolo : -1.0;
+    v.order = q->order;
+    v.theta_turns = q->theta_turns;
     return v;
 }
 
@@ -68,11 +78,13 @@ int cr_output_redshift_png(const char *dir, int k, const cr_pixel *px, int w, in
 int cr_output_bolometric_png(const char *dir, int k, const cr_pixel *px, int w, int h,
                              cr_err *err);
 /* CSV columns (6.11), one row per pixel, header line first:
- * x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric
+ * x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric,
+ * order,theta_turns
  * (x, y pixel coordinates from the top-left; redshift -1 where undefined;
  * outcome as the word horizon/disc/sphere/sky/error/limit/outside; hit_r, hit_phi
  * the disc or sphere hit point, -1 otherwise; bolometric g^4 F / F_max on a
- * Keplerian disc hit, -1 otherwise). Every number is the shortest text that
+ * Keplerian disc hit, -1 otherwise; order and theta_turns the image order
+ * and polar turning points (cr_pixel), -1 where no ray was traced to an end). Every number is the shortest text that
  * reads back as the same double (cr_shortest_double, base/shortest.h). */
 int cr_output_csv(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err);
 /* The same CSV text written to an open stream, then flushed and checked
@@ -86,5 +98,7 @@ int cr_output_write_color(const cr_frame_output *o, cr_err *err);
 int cr_output_write_redshift(const cr_frame_output *o, cr_err *err);
 int cr_output_write_csv(const cr_frame_output *o, cr_err *err);
 int cr_output_write_bolometric(const cr_frame_output *o, cr_err *err);
+/* n_<k>.png: the image-order map (cr_order_color). */
+int cr_output_write_order(const cr_frame_output *o, cr_err *err);
 
 #endif

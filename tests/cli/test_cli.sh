@@ -557,9 +557,9 @@ else
     skip "frame larger than the memory limit" "curray cannot start under ulimit -v (a sanitizer build)"
 fi
 # The memory check counts what else a run holds: each worker's FITS file
-# (built in memory, 53 bytes a pixel) and the thread stacks. Under
+# (built in memory, 57 bytes a pixel) and the thread stacks. Under
 # ulimit -v 600000 a 2300x2300 -t icf run fits without its FITS file
-# (0.33 GiB) but not with it (0.62 GiB): it used to render and then fail in
+# (0.33 GiB) but not with it (0.64 GiB): it used to render and then fail in
 # cfitsio. 64 threads of 8 MiB stacks (0.52 GiB) do not fit 300000 KiB.
 if (ulimit -v 3000000 && "$CURRAY" --version) >/dev/null 2>&1; then
     rm -rf o

@@ -110,7 +110,7 @@ def test_render_equals_cli_csv(scenes, tmp_path, name, config):
     # to curray.render too)
     col = {h: i for i, h in enumerate(header)}
     known = {"x", "y", "r", "g", "b", "steps", "redshift", "err_mean", "err_std", "outcome",
-             "hit_r", "hit_phi", "bolometric"}
+             "hit_r", "hit_phi", "bolometric", "order", "theta_turns"}
     assert set(header) <= known, "CSV columns without a render() array: %s" % (
         set(header) - known)
     assert len(rows) == W * H
@@ -122,6 +122,9 @@ def test_render_equals_cli_csv(scenes, tmp_path, name, config):
     assert np.array_equal(a[:, col["steps"]].astype(np.int64), img["steps"][y, x])
     for k in ("redshift", "err_mean", "err_std", "hit_r", "hit_phi", "bolometric"):
         assert np.array_equal(a[:, col[k]].astype(float), img[k][y, x]), k
+    for k in ("order", "theta_turns"):
+        assert img[k].dtype == np.int16, k
+        assert np.array_equal(a[:, col[k]].astype(int), img[k][y, x]), k
     names = np.array(curray.OUTCOMES)[img["outcome"][y, x]]
     assert np.array_equal(a[:, col["outcome"]].astype(str), names)
 
@@ -148,7 +151,7 @@ def test_fits(scenes, tmp_path, name):
         with fits.open(tmp_path / ("f_%d.fits" % k)) as hd:
             names = [h.name for h in hd]
             assert names == ["PRIMARY", "REDSHIFT", "HIT_R", "HIT_PHI", "BOLO", "OUTCOME",
-                             "STEPS", "NULLERR", "NULLSTD"]
+                             "STEPS", "NULLERR", "NULLSTD", "ORDER", "THTURNS"]
             p = hd[0].header
             assert p["METRIC"] == "Kerr-Newman" and p["UNITS"] == "G = c = 1"
             assert p["FRAME"] == k and p["NFRAMES"] == 2 and p["INTEGRAT"] == "mino"
@@ -169,7 +172,8 @@ def test_fits(scenes, tmp_path, name):
                                ("HIT_PHI", np.float64), ("BOLO", np.float64),
                                ("OUTCOME", np.uint8),
                                ("STEPS", np.uint32), ("NULLERR", np.float64),
-                               ("NULLSTD", np.float64)):
+                               ("NULLSTD", np.float64), ("ORDER", np.int16),
+                               ("THTURNS", np.int16)):
                 d = hd[ext].data
                 assert d.shape == (H, W) and d.dtype.type == dtype, ext  # big-endian
             assert hd["HIT_R"].header["BUNIT"] == "M"
@@ -183,6 +187,8 @@ def test_fits(scenes, tmp_path, name):
             assert np.array_equal(up("STEPS"), grid("steps", np.int64))
             assert np.array_equal(up("NULLERR"), grid("err_mean"))
             assert np.array_equal(up("NULLSTD"), grid("err_std"))
+            assert np.array_equal(up("ORDER"), grid("order", np.int64))
+            assert np.array_equal(up("THTURNS"), grid("theta_turns", np.int64))
             words = np.array(curray.OUTCOMES)[up("OUTCOME")]
             assert np.array_equal(words, grid("outcome", str))
     # atomic: nothing but the outputs (no temporary left behind)

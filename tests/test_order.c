@@ -1,0 +1,415 @@
+/* Image order (cr_pixel.order, theta_turns) and accretion.order against the
+ * exact Schwarzschild orbit, for a face-on observer on the axis.
+ *
+ * A ray of impact parameter b from an observer on the polar axis moves in a
+ * plane through the axis; the angle phi it has swept from the axis obeys
+ * d phi / du = 1 / sqrt(P(u)), P(u) = 1/b^2 - u^2 + 2 M u^3, u = 1/r (M = 1).
+ * It crosses the equatorial plane each time phi reaches pi/2 + k pi (order
+ * k = 0, 1, ...) and passes the axis (a polar turning point of cos theta)
+ * each time phi reaches k pi, k >= 1. For b above b_c = 3 sqrt(3) it turns
+ * at the smallest root u_t of P and leaves, having swept 2 phi(u_t) - phi(u)
+ * on the way out; below b_c it falls into the hole. The expected order and
+ * hit radius of every pixel come from this quadrature (Gauss-Legendre over
+ * a substitution that removes the turning point's square-root singularity,
+ * Newton's method for the crossing), written here and nowhere in curray.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "core/trace.h"
+#include "input/scene.h"
+
+#define R_IN 6.0
+#define R_OUT 20.0
+#define B_CRIT 5.196152422706632 /* 3 sqrt(3) */
+
+/* ---- the exact orbit ------------------------------------------------------ */
+
+/* Gauss-Legendre nodes and weights on [-1, 1], computed once. */
+#define GL_N 24
+static double gl_x[GL_N], gl_w[GL_N];
+
+static void gl_init(void)
+{
+    for (int i = 0; i < GL_N; i++) {
+        double x = cos(CR_PI * (i + 0.75) / (GL_N + 0.5)), dp = 0.0;
+        for (int it = 0; it < 100; it++) {
+            double p0 = 1.0, p1 = x;
+            for (int k = 2; k <= GL_N; k++) {
+                double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = GL_N * (x * p1 - p0) / (x * x - 1.0);
+            double dx = p1 / dp;
+            x -= dx;
+            if (fabs(dx) < 1e-16)
+                break;
+        }
+        gl_x[i] = x;
+        gl_w[i] = 2.0 / ((1.0 - x * x) * dp * dp);
+    }
+}
+
+/* One ray: its impact parameter, the roots of P when it turns. */
+typedef struct orbit {
+    double b, u0; /* u0 = 1 / r of the observer (0 at infinity) */
+    int turns;    /* b > b_c */
+    double ut, u1, u3; /* roots u1 < 0 < ut < u3 of P (turns only) */
+    double phi_t;      /* angle swept from u0 to the turning point */
+} orbit;
+
+static double P(const orbit *o, double u)
+{
+    return 1.0 / (o->b * o->b) - u * u + 2.0 * u * u * u;
+}
+
+/* Root of P in [lo, hi] where P changes sign (bisection). */
+static double p_root(const orbit *o, double lo, double hi)
+{
+    double plo = P(o, lo);
+    for (int i = 0; i < 200; i++) {
+        double mid = 0.5 * (lo + hi), pm = P(o, mid);
+        if ((pm < 0.0) == (plo < 0.0)) {
+            lo = mid;
+            plo = pm;
+        } else {
+            hi = mid;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* Turning case: u = ut (1 - t^2); d phi = 2 sqrt(ut) dt / sqrt(2 (u - u1) (u3 - u)). */
+static double g_turn(const orbit *o, double t)
+{
+    double u = o->ut * (1.0 - t * t);
+    return 2.0 * sqrt(o->ut) / sqrt(2.0 * (u - o->u1) * (o->u3 - u));
+}
+
+static double t_of_u(const orbit *o, double u)
+{
+    double s = 1.0 - u / o->ut;
+    return s > 0.0 ? sqrt(s) : 0.0;
+}
+
+/* Integral of fn over [a, b] by composite Gauss-Legendre, n panels. */
+static double quad(const orbit *o, double (*fn)(const orbit *, double), double a, double b, int n)
+{
+    double s = 0.0, h = (b - a) / n;
+    for (int p = 0; p < n; p++) {
+        double c = a + (p + 0.5) * h;
+        for (int i = 0; i < GL_N; i++)
+            s += gl_w[i] * fn(o, c + 0.5 * h * gl_x[i]);
+    }
+    return 0.5 * h * s;
+}
+
+static double g_plunge(const orbit *o, double u)
+{
+    return 1.0 / sqrt(P(o, u));
+}
+
+/* Angle swept on the way in from u0 to u (u <= ut when the ray turns). */
+static double phi_in(const orbit *o, double u)
+{
+    if (o->turns)
+        return quad(o, g_turn, t_of_u(o, u), t_of_u(o, o->u0), 8);
+    return quad(o, g_plunge, o->u0, u, 32);
+}
+
+static void orbit_make(orbit *o, double b, double u0)
+{
+    memset(o, 0, sizeof *o);
+    o->b = b;
+    o->u0 = u0;
+    o->turns = b > B_CRIT;
+    if (o->turns) {
+        o->ut = p_root(o, 0.0, 1.0 / 3.0);
+        o->u3 = p_root(o, 1.0 / 3.0, 0.5);
+        o->u1 = 0.5 - o->ut - o->u3; /* the roots of 2u^3 - u^2 + 1/b^2 sum to 1/2 */
+        o->phi_t = phi_in(o, o->ut);
+    }
+}
+
+/* The u in [lo, hi] (on the way in: up to the turning point) where the
+ * angle swept from u0 is phi: bisection on phi_in, which increases with u. */
+static double u_at(const orbit *o, double phi, double lo, double hi)
+{
+    for (int i = 0; i < 60; i++) {
+        double mid = 0.5 * (lo + hi);
+        if (phi_in(o, mid) < phi)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* The radius of the ray's crossing of swept angle phi, or 0 when it never
+ * sweeps that far: it leaves first (turning at ut, it has swept
+ * 2 phi_t - phi_in(u) at u on the way out, 2 phi_t - phi_in(0) at
+ * infinity) or reaches the horizon stop r_stop. */
+static double crossing_r(const orbit *o, double phi, double r_stop)
+{
+    if (o->turns) {
+        double back = 2.0 * o->phi_t - phi; /* phi_in at the outbound crossing */
+        if (phi <= o->phi_t)
+            return 1.0 / u_at(o, phi, o->u0, o->ut);
+        if (back <= phi_in(o, 0.0))
+            return 0.0;
+        return 1.0 / u_at(o, back, 0.0, o->ut);
+    }
+    if (phi >= phi_in(o, 1.0 / r_stop))
+        return 0.0;
+    return 1.0 / u_at(o, phi, o->u0, 1.0 / r_stop);
+}
+
+/* What the exact orbit says of the ray of impact parameter b: the order of
+ * its first crossing inside [r_in, r_out] (only crossing `only` when only
+ * >= 0) and its radius; -1 when it meets no disc. */
+static int exact_hit(double b, double u0, double r_stop, int only, double *r_hit)
+{
+    orbit o;
+    orbit_make(&o, b, u0);
+    for (int k = 0; k < 20; k++) {
+        double r = crossing_r(&o, 0.5 * CR_PI + k * CR_PI, r_stop);
+        if (r == 0.0)
+            return -1;
+        if (r >= R_IN && r <= R_OUT && (only < 0 || k == only)) {
+            *r_hit = r;
+            return k;
+        }
+    }
+    return -1;
+}
+
+/* ---- the frames ----------------------------------------------------------- */
+
+static void frame_from(const char *text, int integ, double tol, cr_frame *f, int w, int h)
+{
+    cr_scene s;
+    cr_err err;
+    cr_trace_settings ts = cr_trace_defaults();
+    ts.integrator = integ;
+    if (tol > 0.0)
+        ts.tolerance = tol;
+    memset(&s, 0, sizeof s);
+    if (cr_scene_load_string(text, strlen(text), "order.yml", &s, &err))
+        fail_msg("%s", err.msg);
+    if (cr_scene_frame(&s, 0, 1, w, h, &ts, f, NULL, &err))
+        fail_msg("%s", err.msg);
+    cr_scene_free(&s);
+}
+
+/* Impact parameter of image point (x, y) (pixel units, (i, j) the centre of
+ * pixel (i, j)): at infinity the image-plane radius sqrt(alpha^2 + beta^2)
+ * over the hextent x vextent plane; for the static observer on the axis at r
+ * with a rectilinear hfov (square pixels), b = r sin(psi) / sqrt(1 - 2/r)
+ * with psi the angle from the view axis (straight at the hole). */
+typedef struct view {
+    int w, h;
+    double r;      /* INFINITY: at infinity */
+    double extent; /* hextent (infinity) or tan(hfov / 2) */
+} view;
+
+static double view_b(const view *v, double x, double y)
+{
+    double sx = (2.0 * (x + 0.5) / v->w - 1.0), sy = (1.0 - 2.0 * (y + 0.5) / v->h);
+    sy *= (double)v->h / v->w;
+    if (isinf(v->r))
+        return 0.5 * v->extent * sqrt(sx * sx + sy * sy);
+    double psi = atan(v->extent * sqrt(sx * sx + sy * sy));
+    return v->r * sin(psi) / sqrt(1.0 - 2.0 / v->r);
+}
+
+/* Compare every pixel with the exact orbit: disc or not, order and
+ * theta_turns (= order for an observer on the axis), hit radius within
+ * r_tol (relative). Pixels within a small fraction of a pixel of an edge
+ * (the exact answer changes within +-0.02 px in b) are left out and
+ * counted; returns the number of order-`want` hits compared. */
+static int compare_pixels(const cr_frame *f, const view *v, int only, double r_tol, int want)
+{
+    double u0 = isinf(v->r) ? 0.0 : 1.0 / v->r, db = 0.02 * view_b(v, v->w - 1, 0) / (0.5 * v->w);
+    int compared = 0, skipped = 0, of_want = 0;
+    double worst = 0.0;
+    for (int j = 0; j < v->h; j++)
+        for (int i = 0; i < v->w; i++) {
+            double b = view_b(v, i, j), r, rm, rp;
+            int n = exact_hit(b, u0, f->r_stop, only, &r);
+            cr_pixel px;
+            if (exact_hit(b - db, u0, f->r_stop, only, &rm) != n ||
+                exact_hit(b + db, u0, f->r_stop, only, &rp) != n) {
+                skipped++;
+                continue;
+            }
+            px = cr_trace_pixel(f, i, j);
+            compared++;
+            if (n < 0) {
+                if (px.outcome == CR_OUT_DISC)
+                    fail_msg("pixel (%d, %d), b = %.9g: disc hit at r = %.9g of order %d, "
+                             "the exact orbit meets no disc",
+                             i, j, b, px.hit_r, px.order);
+                continue;
+            }
+            if (px.outcome != CR_OUT_DISC || px.order != n || px.theta_turns != n)
+                fail_msg("pixel (%d, %d), b = %.9g: outcome %s, order %d, theta_turns %d; "
+                         "exact: disc of order %d at r = %.9g",
+                         i, j, b, cr_outcome_name(px.outcome), px.order, px.theta_turns, n, r);
+            if (fabs(px.hit_r - r) > r_tol * r)
+                fail_msg("pixel (%d, %d), b = %.9g, order %d: hit_r %.12g, exact %.12g", i, j, b,
+                         n, px.hit_r, r);
+            if (fabs(px.hit_r - r) / r > worst)
+                worst = fabs(px.hit_r - r) / r;
+            of_want += n == want;
+        }
+    print_message("%d pixels compared, %d within 0.02 px of an edge left out, %d of order %d; "
+                  "worst |hit_r - exact| / exact %.3g (allowed %.3g)\n",
+                  compared, skipped, of_want, want, worst, r_tol);
+    assert_true(skipped < v->w * v->h / 20);
+    return of_want;
+}
+
+/* Whether the exact orbit of impact parameter b (observer at infinity)
+ * meets the disc on its order-1 crossing, as the first disc crossing. */
+static int exact_in_ring(double b, double r_stop)
+{
+    double r;
+    return exact_hit(b, 0.0, r_stop, -1, &r) == 1;
+}
+
+/* The end of an interval where in(x) holds: in(lo) true, in(hi) false. */
+#define BISECT(lo, hi, in)                                                                         \
+    for (int it_ = 0; it_ < 50; it_++) {                                                           \
+        double x = 0.5 * ((lo) + (hi));                                                            \
+        if (in)                                                                                    \
+            (lo) = x;                                                                              \
+        else                                                                                       \
+            (hi) = x;                                                                              \
+    }
+
+static const char *const face_on_inf =
+    "metric: {m: 1, a: 0, q: 0}\n"
+    "observer: {r: inf, theta: 0, phi: 0, hextent: 16}\n"
+    "accretion: {color1: [255, 255, 255], resolution: [8, 8], radius: [6, 20]%s}\n";
+
+/* Mino, observer at infinity: every pixel, then the order-1 ring's inner
+ * and outer edges along the centre row within 0.5 px. */
+static void test_order_face_on_infinity(void **state)
+{
+    enum { W = 128, H = 128 };
+    char text[512];
+    cr_frame f;
+    view v = {W, H, INFINITY, 16.0};
+    double y0 = 0.5 * H - 0.5; /* beta = 0 */
+    double px_m = 16.0 / W;    /* M per pixel */
+    (void)state;
+    snprintf(text, sizeof text, face_on_inf, "");
+    frame_from(text, CR_INTEG_MINO, 1e-10, &f, W, H);
+    assert_true(compare_pixels(&f, &v, -1, 1e-6, 1) > 50);
+
+    /* the ring along the row beta = 0, right of the centre: its exact
+     * edges in b (the first interval of b above b_c where the first disc
+     * crossing is of order 1) against curray's (bisection on rays at
+     * fractional x), in pixels */
+    {
+        double b = B_CRIT, b_in, b_out, lo, hi, x0 = 0.5 * W - 0.5, xs[2], mid;
+        while (!exact_in_ring(b, f.r_stop) && b < 8.0)
+            b += 0.002;
+        assert_true(b < 8.0);
+        lo = b, hi = B_CRIT;
+        BISECT(lo, hi, exact_in_ring(x, f.r_stop));
+        b_in = 0.5 * (lo + hi);
+        lo = b, hi = b;
+        while (exact_in_ring(hi, f.r_stop))
+            hi += 0.002;
+        BISECT(lo, hi, exact_in_ring(x, f.r_stop));
+        b_out = 0.5 * (lo + hi);
+        mid = x0 + 0.5 * (b_in + b_out) / px_m;
+        for (int e = 0; e < 2; e++) {
+            double far = e == 0 ? x0 + (b_in - 1.0) / px_m : x0 + (b_out + 1.0) / px_m;
+            cr_pixel p;
+            lo = mid, hi = far;
+            p = cr_trace_point(&f, mid, y0);
+            assert_true(p.outcome == CR_OUT_DISC && p.order == 1);
+            BISECT(lo, hi, (p = cr_trace_point(&f, x, y0), p.outcome == CR_OUT_DISC && p.order == 1));
+            xs[e] = 0.5 * (lo + hi);
+        }
+        print_message("order-1 ring on beta = 0: b from %.6f to %.6f M (exact %.6f to %.6f, "
+                      "%.2f px wide): edges off by %.4f and %.4f px\n",
+                      (xs[0] - x0) * px_m, (xs[1] - x0) * px_m, b_in, b_out,
+                      (b_out - b_in) / px_m, xs[0] - (x0 + b_in / px_m), xs[1] - (x0 + b_out / px_m));
+        assert_true(fabs(xs[0] - (x0 + b_in / px_m)) < 0.5);
+        assert_true(fabs(xs[1] - (x0 + b_out / px_m)) < 0.5);
+        /* the ring is several pixels wide, so 0.5 px means something */
+        assert_true((b_out - b_in) / px_m > 3.0);
+    }
+}
+
+/* accretion.order: 1: the disc only where the ray crosses the plane for the
+ * second time; the direct image is gone (rays pass through the disc). */
+static void test_disc_order_only(void **state)
+{
+    enum { W = 100, H = 100 };
+    char text[512];
+    cr_frame f;
+    view v = {W, H, INFINITY, 16.0};
+    int n1;
+    (void)state;
+    snprintf(text, sizeof text, face_on_inf, ", order: 1");
+    frame_from(text, CR_INTEG_MINO, 1e-10, &f, W, H);
+    n1 = compare_pixels(&f, &v, 1, 1e-6, 1);
+    /* the order-1 disc covers what the direct image hid: more pixels than
+     * the visible ring of the full disc */
+    assert_true(n1 > 500);
+    for (int i = 0; i < W * H; i++) {
+        cr_pixel p = cr_trace_pixel(&f, i % W, i / W);
+        assert_true(p.outcome != CR_OUT_DISC || p.order == 1);
+    }
+}
+
+/* rk4 (and mino) from a static observer on the axis at r = 200 M. */
+static void finite_case(int integ, double tol, double r_tol)
+{
+    enum { W = 64, H = 64 };
+    const char *text = "metric: {m: 1, a: 0, q: 0}\n"
+                       "observer: {r: 200, theta: 0, phi: 0, hfov: 4.6}\n"
+                       "accretion: {color1: [255, 255, 255], resolution: [8, 8], "
+                       "radius: [6, 20]}\n";
+    cr_frame f;
+    view v = {W, H, 200.0, tan(2.3 * CR_PI / 180.0)};
+    frame_from(text, integ, tol, &f, W, H);
+    assert_true(compare_pixels(&f, &v, -1, r_tol, 1) > 10);
+}
+
+/* rk4 at its default step multiplier */
+static void test_order_rk4_finite(void **state)
+{
+    (void)state;
+    finite_case(CR_INTEG_RK4, 0.0, 1e-6);
+}
+
+static void test_order_mino_finite(void **state)
+{
+    (void)state;
+    finite_case(CR_INTEG_MINO, 1e-10, 1e-6);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_order_face_on_infinity),
+        cmocka_unit_test(test_disc_order_only),
+        cmocka_unit_test(test_order_mino_finite),
+        cmocka_unit_test(test_order_rk4_finite),
+    };
+    gl_init();
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
