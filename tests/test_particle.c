@@ -11,7 +11,7 @@
  * - The same worldlines against an independent integration: Hamilton's
  *   equations of H = g^{mu nu}(pi_mu - qm A_mu)(pi_nu - qm A_nu)/2 with the
  *   inverse metric written out here and numerical derivatives of H, by RK4
- *   in proper time (step 0.005): t, r, theta, phi agree at tau = 40 to 1e-8
+ *   in proper time (step 0.005): t, r, theta, phi and u^mu agree at tau = 40 to 1e-8
  *   (8 worldlines that last that long).
  * - The observers' 4-velocities: static with v = 0 is (1/sqrt(-g_tt), 0, 0,
  *   0) (shift.h), ZAMO with v = 0 has L = 0, both to 1e-14; a velocity
@@ -129,7 +129,7 @@ static void ham_rhs(const cr_metric *mt, double qm, const double pc[2], const do
 /* dx/dtau from H is linear in pi: the finite differences above are exact up
  * to rounding; the forces carry an O(h^2) ~ 1e-10 error. */
 static void ham_integrate(const cr_metric *mt, double qm, double r, double th, double ph,
-                          const double u[4], double tau_end, double out[4])
+                          const double u[4], double tau_end, double out[8])
 {
     cr_metric_point m;
     double At, Aph, pc[2], z[6], k1[6], k2[6], k3[6], k4[6], tmp[6], h = 0.005;
@@ -162,6 +162,9 @@ static void ham_integrate(const cr_metric *mt, double qm, double r, double th, d
     }
     for (j = 0; j < 4; j++)
         out[j] = z[j];
+    ham_rhs(mt, qm, pc, z, k1); /* dx/dtau = u at the end */
+    for (j = 0; j < 4; j++)
+        out[4 + j] = k1[j];
 }
 
 /* Run p until proper time tau_x; fills q there. Returns 0 if it ended first. */
@@ -234,7 +237,8 @@ static void test_random_worldlines(void **state)
         assert_true(steps > 20);
         /* against Hamilton's equations, over the first tau = 40 */
         if (compared < 8) {
-            double z[4];
+            double z[8];
+            int mu;
             assert_true(cr_particle_start_u(&p, &mt, qm, TOL, EPS, 1e4, 0.0, r0, th0, 0.3, u));
             if (!run_to_tau(&p, 40.0, &pt)) {
                 checked++;
@@ -246,6 +250,8 @@ static void test_random_worldlines(void **state)
             worst_h = fmax(worst_h, fabs(z[1] - pt.r) / z[1]);
             worst_h = fmax(worst_h, fabs(z[2] - pt.th));
             worst_h = fmax(worst_h, fabs(z[3] - pt.ph));
+            for (mu = 0; mu < 4; mu++)
+                worst_h = fmax(worst_h, fabs(z[4 + mu] - pt.u[mu]) / (1.0 + fabs(pt.u[mu])));
         }
         checked++;
     }
