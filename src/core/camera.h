@@ -42,7 +42,11 @@
  * scene validation), or one at r = +INFINITY (no tetrad needed there). A
  * moving observer's tetrad is the boosted ZAMO tetrad of observer.h;
  * obs_sqrt_mgtt is then 1 / u^t (sqrt(-g_tt) for the static observer, whose
- * u^t = 1/sqrt(-g_tt); positive everywhere outside the horizon). */
+ * u^t = 1/sqrt(-g_tt); positive everywhere outside the horizon, negative
+ * between the horizons, where BL t runs backward along the infall). An
+ * observer between the horizons (obs_inside) gets the free-fall frame of
+ * observer.h, boosted by its velocity (measured in that frame) if it has
+ * one; its rays start in the ingoing chart (ray.h). */
 CR_HD static inline void cr_camera_prepare(cr_frame *f)
 {
     const cr_observer *o = &f->observer;
@@ -53,6 +57,7 @@ CR_HD static inline void cr_camera_prepare(cr_frame *f)
         for (b = 0; b < 4; b++)
             f->tetrad[a][b] = 0.0;
     f->obs_on_axis = 0;
+    f->obs_inside = 0;
     if (fabs(s) < 1e-10)
         f->obs_on_axis = cos(o->theta) > 0.0 ? 1 : -1;
     /* forward, right, up */
@@ -69,7 +74,29 @@ CR_HD static inline void cr_camera_prepare(cr_frame *f)
         f->tan_half_v = 0.5 * o->vextent;
         return;
     }
-    if (o->motion != CR_MOTION_STATIC) {
+    f->obs_inside = o->r < cr_metric_r_plus(&f->metric);
+    if (f->obs_inside) {
+        /* between the horizons: the free-fall frame (observer.h), boosted by
+         * v for a velocity; its covariant legs for E and L (cr_camera_ray) */
+        double e[4][4], low[4][2], el[4][4], bl[4][4], v[3] = {0.0, 0.0, 0.0};
+        cr_freefall_tetrad(&f->metric, o->r, o->theta, f->obs_on_axis, e, low);
+        if (o->motion == CR_MOTION_VELOCITY) {
+            for (a = 0; a < 3; a++)
+                v[a] = o->v[a];
+        }
+        for (a = 0; a < 4; a++) {
+            el[a][0] = low[a][0];
+            el[a][1] = low[a][1];
+            el[a][2] = el[a][3] = 0.0;
+        }
+        cr_boost_tetrad(e, v, f->tetrad);
+        cr_boost_tetrad(el, v, bl);
+        for (a = 0; a < 4; a++) {
+            f->tetrad_low[a][0] = bl[a][0];
+            f->tetrad_low[a][1] = bl[a][1];
+        }
+        f->obs_sqrt_mgtt = 1.0 / f->tetrad[0][0];
+    } else if (o->motion != CR_MOTION_STATIC) {
         double e[4][4], v[3];
         cr_zamo_tetrad(&f->metric, o->r, o->theta, f->obs_on_axis, e, NULL, NULL, NULL);
         cr_observer_zamo_velocity(&f->metric, o, f->obs_on_axis, v);
@@ -219,8 +246,18 @@ CR_HD static inline void cr_camera_ray(const cr_frame *f, const double n[3], cr_
     }
     y[CR_Y_UR] = u[1];
     y[CR_Y_UTH] = u[2];
-    cr_metric_eval(&f->metric, o->r, y[CR_Y_TH], &p);
-    cr_geo_constants(&p, u, &g->E, &g->L);
+    if (f->obs_inside) {
+        /* from the covariant legs: regular near r+ (camera_prepare) */
+        g->E = -f->tetrad_low[0][0];
+        g->L = -f->tetrad_low[0][1];
+        for (k = 0; k < 3; k++) {
+            g->E += n[k] * f->tetrad_low[k + 1][0];
+            g->L += n[k] * f->tetrad_low[k + 1][1];
+        }
+    } else {
+        cr_metric_eval(&f->metric, o->r, y[CR_Y_TH], &p);
+        cr_geo_constants(&p, u, &g->E, &g->L);
+    }
     if (f->obs_on_axis)
         g->L = 0.0;
     cr_geo_set_floor(g, y);

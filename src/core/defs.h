@@ -184,7 +184,11 @@ typedef enum cr_outcome {
                            painted in limit_color */
     CR_OUT_OUTSIDE = 7, /* outside the picture: a fisheye pixel beyond its image
                            circle (cr_camera_in_image); not traced, black */
-    CR_OUT_COUNT_ = 8
+    CR_OUT_OTHER_SIDE = 8, /* a ray from inside the outer horizon that leaves the
+                           interior through its past boundary away from our
+                           exterior (toward the other exterior of the eternal
+                           hole; ray.h); painted in other_side_color */
+    CR_OUT_COUNT_ = 9
 } cr_outcome;
 
 /* The integrator that traces the rays (raytracer.integrator).
@@ -215,6 +219,7 @@ typedef struct cr_frame {
     double sky_boundary; /* R of 6.10; 0 when unset */
     cr_rgb sky_color, horizon_color, error_color;
     cr_rgb limit_color;  /* rays that end on max_steps or max_turns */
+    cr_rgb other_side_color; /* rays that end as CR_OUT_OTHER_SIDE */
     int width, height;
 
     /* raytracer settings (system configuration; their defaults and limits:
@@ -250,6 +255,14 @@ typedef struct cr_frame {
     double tetrad[4][4];  /* BL components of the observer's e_t (its
                              4-velocity), e_r, e_theta, e_phi (observer.h) */
     int obs_on_axis;      /* +1 north pole, -1 south pole, 0 otherwise */
+    int obs_inside;       /* the observer is between the horizons, r- < r < r+
+                             (observer.h: the free-fall frame; ray.h: the
+                             ingoing chart) */
+    double tetrad_low[4][2]; /* obs_inside: the covariant t and phi components
+                             of the tetrad's legs (regular where the BL
+                             contravariant ones grow as 1/Delta) */
+    double w_other;       /* obs_inside: 1 / (r+ - epsilon), where a ray bound
+                             for the other side ends */
 } cr_frame;
 
 /* Result for one pixel. redshift = omega_r / omega_s (6.9), -1 where it is

@@ -44,7 +44,8 @@ CR_HD static inline void cr_sphere_to_units_of_m(cr_sphere *s, double m)
 
 /* Complete the derived fields of a frame whose scene and settings are set.
  * Requires a validated scene (a horizon, a static observer outside the
- * ergosurface or at infinity). Spheres must already be prepared
+ * ergosurface or at infinity, a moving one outside r+ or, under Mino, an
+ * infalling or velocity observer between the horizons, r- < r < r+). Spheres must already be prepared
  * (cr_sphere_prepare). */
 CR_HD static inline void cr_frame_prepare(cr_frame *f)
 {
@@ -53,6 +54,8 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
     int k;
     f->r_stop = cr_metric_r_plus(&f->metric) + f->horizon_epsilon;
     f->w_stop = 1.0 / f->r_stop;
+    /* from inside the horizon: where rays bound for the other side end */
+    f->w_other = 1.0 / (cr_metric_r_plus(&f->metric) - f->horizon_epsilon);
     if (f->disc.enabled && f->disc.r_out > rm)
         rm = f->disc.r_out;
     for (k = 0; k < f->n_spheres; k++) {

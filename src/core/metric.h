@@ -50,6 +50,38 @@ CR_HD static inline double cr_metric_r_plus(const cr_metric *mt)
     return mt->m + sqrt(d);
 }
 
+/* Inner horizon r- = M - sqrt(M^2 - a^2 - Q^2) (0 for Schwarzschild). Returns
+ * NaN when no horizon exists. */
+CR_HD static inline double cr_metric_r_minus(const cr_metric *mt)
+{
+    double d = mt->m * mt->m - mt->a * mt->a - mt->q * mt->q;
+    if (d < 0.0)
+        return NAN;
+    return mt->m - sqrt(d);
+}
+
+/* Ingoing Kerr coordinates (v, r, theta, phi~) from Boyer-Lindquist ones:
+ *   v = t + G(r),  phi~ = phi + F(r),  dG/dr = (r^2 + a^2)/Delta, dF/dr = a/Delta,
+ * with the integration constants fixed by
+ *   F(r) = a/(r+ - r-) ln|(r - r+)/(r - r-)|,
+ *   G(r) = r + (r+^2 + a^2)/(r+ - r-) ln|r - r+| - (r-^2 + a^2)/(r+ - r-) ln|r - r-|
+ * (partial fractions of 1/Delta = 1/((r - r+)(r - r-)), r+^2 + a^2 = 2 M r+ - Q^2).
+ * The same formulas relate the BL chart inside the horizon (r- < r < r+,
+ * where t and phi are another patch) to the ingoing one, which covers both
+ * and is regular at r+. Needs r+ > r- (not extremal) and r != r+-; the r-
+ * term is dropped when r- = 0 (its coefficient (r-^2 + a^2) is then 0). */
+CR_HD static inline void cr_metric_ingoing_shift(const cr_metric *mt, double r, double *F,
+                                                 double *G)
+{
+    double rp = cr_metric_r_plus(mt), rm = cr_metric_r_minus(mt), a2 = mt->a * mt->a;
+    double k = 1.0 / (rp - rm);
+    double lp = log(fabs(r - rp)), lm = rm != 0.0 ? log(fabs(r - rm)) : 0.0;
+    if (F)
+        *F = mt->a * k * (lp - lm);
+    if (G)
+        *G = r + k * ((rp * rp + a2) * lp - (rm * rm + a2) * lm);
+}
+
 /* Outer static limit r_E+ (2.2.6) at polar angle th. */
 CR_HD static inline double cr_metric_r_ergo(const cr_metric *mt, double th)
 {

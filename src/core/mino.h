@@ -73,7 +73,16 @@ typedef struct cr_mino {
     double d_min;          /* D at the horizon stop: D is clamped to it beyond
                               the stop, where rays end anyway */
     double omega;          /* sqrt(eta + L^2 + a^2 E^2) >= |dn/dtau|, floored */
+    /* The chart of pr (cr_mino_rhs): CR_CHART_BL, or CR_CHART_INGOING, where
+     * pr is phi~ - atan2(n_y, n_x) with the ingoing Kerr azimuth
+     * phi~ = phi + F(r) (metric.h), regular through the future horizon. */
+    int chart;
+    double K;  /* eta + (L + a E)^2: R = P^2 - Delta K */
+    double pa; /* w^2 P(1/w) = E + pa w^2 */
 } cr_mino;
+
+/* Charts of the azimuth pr (cr_mino.chart). */
+enum { CR_CHART_BL = 0, CR_CHART_INGOING = 1 };
 
 /* Fill the coefficients for constants (E, L, eta) on metric mt; w_stop =
  * 1/(r+ + epsilon) is where rays end at the horizon. */
@@ -104,6 +113,9 @@ CR_HD static inline void cr_mino_init(cr_mino *c, const cr_metric *mt, double E,
     c->omega = sqrt(om2 > 0.0 ? om2 : 0.0);
     if (c->omega < 1e-3 * fabs(E))
         c->omega = 1e-3 * fabs(E);
+    c->chart = CR_CHART_BL;
+    c->K = C;
+    c->pa = a * aEL;
 }
 
 /* W(w) = w^4 R(1/w). */
@@ -120,13 +132,46 @@ CR_HD static inline double cr_mino_Th(const cr_mino *c, double u)
     return c->eta - u2 * (c->kap - c->a2E2 + c->a2E2 * u2);
 }
 
+/* Ingoing chart: the rest of d phi~/dtau, and d v/dtau, of the backward ray
+ * at state y. With dphi~ = dphi + (a/Delta) dr and dv = dt + ((r^2 + a^2)/Delta) dr,
+ * dr/dtau = -(dw/dtau)/w^2, Delta = D/w^2 and Pw = w^2 P = E + pa w^2:
+ *   d phi~/dtau - L/sin^2 part = a E - a (Pw + dw)/D,
+ *   d v/dtau = -(1 + a^2 w^2) (Pw + dw)/(w^2 D) + a (L + a E sin^2 theta),
+ * and on the ray Pw^2 - dw^2 = w^2 D K (from W = Pw^2 - w^2 D K), so
+ *   (Pw + dw)/D = w^2 K/(Pw - dw),
+ * the form used where |Pw - dw| >= |Pw + dw|: regular at D = 0 for light
+ * that crossed the future horizon inward (backward: outward with dw < 0,
+ * P > 0). Elsewhere (rays bound for the past boundary, dw -> Pw at D = 0,
+ * which ray.h ends before D = 0) the direct form (Pw + dw)/(w^2 D). */
+CR_HD static inline double cr_mino_ingoing_q(const cr_mino *c, const double *y)
+{
+    double w = y[CR_M_W], pw = c->E + c->pa * w * w, dw = y[CR_M_DW];
+    double sum = pw + dw, dif = pw - dw;
+    /* (Pw + dw) / (w^2 D), in whichever form is better conditioned (equal on
+     * the ray): the regular one except where Pw - dw is the smaller (rays
+     * bound for the other side, which end before D = 0; K = 0 radial rays,
+     * where it is 0/0) */
+    if (fabs(dif) >= fabs(sum))
+        return c->K / dif;
+    return sum / (w * w * (1.0 + w * (c->d1 + c->d2 * w)));
+}
+
+CR_HD static inline double cr_mino_ingoing_dv(const cr_mino *c, const double *y)
+{
+    double w = y[CR_M_W], nz = y[CR_M_NZ];
+    double n2 = y[CR_M_NX] * y[CR_M_NX] + y[CR_M_NY] * y[CR_M_NY] + nz * nz;
+    double s2 = n2 > 0.0 ? 1.0 - nz * nz / n2 : 0.0;
+    return -(1.0 + c->a * c->a * w * w) * cr_mino_ingoing_q(c, y) +
+           c->a * (c->L + c->a * c->E * s2);
+}
+
 /* Right-hand side dy/dtau. */
 CR_HD static inline void cr_mino_rhs(const cr_mino *c, const double *y, double *dy)
 {
     double w = y[CR_M_W], nz = y[CR_M_NZ];
     double k = c->kap + 2.0 * c->a2E2 * nz * nz;
     double D = 1.0 + w * (c->d1 + c->d2 * w);
-    if (D < c->d_min)
+    if (D < c->d_min && c->chart == CR_CHART_BL)
         D = c->d_min;
     dy[CR_M_W] = y[CR_M_DW];
     dy[CR_M_DW] = 0.5 * c->c3 + w * (c->c2 + w * (1.5 * c->c1 + 2.0 * c->c0 * w));
@@ -136,7 +181,10 @@ CR_HD static inline void cr_mino_rhs(const cr_mino *c, const double *y, double *
     dy[CR_M_DNX] = -k * y[CR_M_NX];
     dy[CR_M_DNY] = -k * y[CR_M_NY];
     dy[CR_M_DNZ] = (c->a2E2 - k) * nz;
-    dy[CR_M_PR] = c->a * w * (c->p1 + c->p2 * w) / D;
+    if (c->chart == CR_CHART_INGOING)
+        dy[CR_M_PR] = c->a * (c->E - w * w * cr_mino_ingoing_q(c, y));
+    else
+        dy[CR_M_PR] = c->a * w * (c->p1 + c->p2 * w) / D;
 }
 
 /* The conserved-quantity monitor described at the top of this file. */

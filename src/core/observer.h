@@ -32,6 +32,23 @@
  *             v = sqrt(2M/r);
  *   velocity: v = (v_r, v_th, v_ph) as given.
  *
+ * Inside the outer horizon (r- < r < r+; frame obs_inside) Delta < 0: no
+ * static observer, no ZAMO (alpha^2 = Delta Sigma / A < 0) and no circular
+ * orbit exist, and r is a time coordinate. The frame used there is the free
+ * fall from rest at infinity itself, regular through r+
+ * (cr_freefall_tetrad): with u the infall 4-velocity above (E = 1, L = 0,
+ * Carter constant 0; u^r = -sqrt((r^2 + a^2)(2Mr - Q^2))/Sigma, u^t =
+ * A/(Sigma Delta), u^phi = a (2Mr - Q^2)/(Sigma Delta), u_t = -1, u_phi = 0):
+ *   e_0 = u,  e_r = (Delta d_r + Sigma u^r u)/sqrt(A),
+ *   e_th = d_th / sqrt(Sigma),  e_ph = d_phi / sqrt(g_phph);
+ * e_r is the unit vector orthogonal to u, e_th, e_ph, with g(e_r, e_r) =
+ * (Delta Sigma + Sigma^2 (u^r)^2)/A = 1, written with the factor Delta so
+ * that it is continuous across r+ in ingoing coordinates (it points to larger
+ * r outside, where it equals the boosted ZAMO tetrad of infall). Motions
+ * there: infall (this frame) and velocity (this frame boosted by v, v now
+ * measured by the free-faller, not by a ZAMO); static, zamo and orbit are
+ * refused by the scene's validation.
+ *
  * Projections (cr_projection): pixel -> screen point (sx, sy) is linear,
  * (2 (i + 1/2)/W - 1) hx, (1 - 2 (j + 1/2)/H) hy (cr_camera_screen), with
  * (hx, hy) the frame's tan_half_h, tan_half_v; the screen point -> unit
@@ -86,6 +103,46 @@ CR_HD static inline void cr_zamo_tetrad(const cr_metric *mt, double r, double th
         *omega = om;
     if (sqrt_gphph)
         *sqrt_gphph = sp;
+}
+
+/* The free-fall frame of the header comment at BL (r, th), r != r+-: e[a][mu]
+ * = BL contravariant component mu of leg a (rows e_0, e_r, e_th, e_ph; e_ph
+ * zero on the axis) and low[a][0], low[a][1] = its covariant t and phi
+ * components, which stay regular at r+ where the BL contravariant ones grow
+ * as 1/Delta. Valid on both sides of r+ wherever 2Mr - Q^2 >= 0. */
+CR_HD static inline void cr_freefall_tetrad(const cr_metric *mt, double r, double th,
+                                            int on_axis, double e[4][4], double low[4][2])
+{
+    cr_metric_point p;
+    double u[4], ur, sA, k;
+    int a, b;
+    cr_metric_eval(mt, r, th, &p);
+    for (a = 0; a < 4; a++) {
+        for (b = 0; b < 4; b++)
+            e[a][b] = 0.0;
+        low[a][0] = low[a][1] = 0.0;
+    }
+    ur = -sqrt((r * r + mt->a * mt->a) * fmax(p.W_, 0.0)) / p.sigma;
+    u[0] = p.A_ / (p.sigma * p.delta);
+    u[1] = ur;
+    u[2] = 0.0;
+    u[3] = mt->a * p.W_ / (p.sigma * p.delta);
+    sA = sqrt(p.A_);
+    k = p.sigma * ur / sA;
+    for (b = 0; b < 4; b++) {
+        e[0][b] = u[b];
+        e[1][b] = k * u[b];
+    }
+    e[1][1] = (p.delta + p.sigma * ur * ur) / sA;
+    e[2][2] = 1.0 / sqrt(p.sigma);
+    low[0][0] = -1.0; /* u_t = -E, E = 1; u_phi = L = 0 */
+    low[1][0] = -k;   /* (Sigma u^r u_t)/sqrt(A); g_tr = 0 */
+    if (!on_axis) {
+        double sp = sqrt(p.g_phph);
+        e[3][3] = 1.0 / sp;
+        low[3][0] = p.g_tph / sp;
+        low[3][1] = sp;
+    }
 }
 
 /* The tetrad e (rows e_0, e_1, e_2, e_3, BL components) boosted by the

@@ -13,6 +13,11 @@
  *              the backward tangent under rk4, Mino time tau (d lambda =
  *              Sigma d tau) under mino;
  *   CR_P_T     BL coordinate time: rk4 integrates it (t = 0 at the observer);
+ *              for a ray from inside the horizon (ray.h's ingoing chart) the
+ *              recorder integrates the ingoing time v = t + G(r) (metric.h;
+ *              regular through r+), 0 at the observer: the column is v
+ *              while the ray is inside r+ + epsilon and BL t = v - G(r) from
+ *              where it changes to BL on;
  *              mino does not (it diverges at w = 0), so the recorder
  *              integrates dt/dtau = Sigma u^t over each recorded interval
  *              (Romberg on the dense output, cr_path_dt); a ray from an
@@ -53,7 +58,8 @@ typedef struct cr_path {
     /* running values (set by cr_path_begin) */
     int started;     /* the first point is recorded */
     double lam;      /* parameter at the start of the current step */
-    double t, dt;    /* t and dt/dparameter at the last point */
+    double t, dt;    /* t and dt/dparameter at the last point (mino from
+                        inside the horizon: v and dv/dtau, cr_ray_point) */
     double ph;       /* phi at the last point */
 } cr_path;
 
@@ -91,6 +97,7 @@ CR_HD static inline void cr_path_begin(const cr_frame *f, const cr_ray *ray, cr_
     path->started = 0;
     path->lam = 0.0;
     path->t = 0.0;
+
     if (path->sub < 1)
         path->sub = 1;
     path->dt = cr_path_eval(f, ray, y, p);
@@ -160,10 +167,12 @@ CR_HD static inline void cr_path_step(const cr_frame *f, const cr_ray *ray, cr_p
         dt = cr_path_eval(f, ray, ys, p);
         if (!(dt == dt))
             break; /* w <= 0: a ray leaving to the sky at infinity has no finite point */
-        if (!has_t) /* from infinity the path starts at the first finite point, t = 0 */
-            p[CR_P_T] =
-                path->started ? path->t + cr_path_dt(f, ray, s0, s1, path->dt, dt) : 0.0;
-        path->t = p[CR_P_T];
+        if (!has_t) { /* from infinity the path starts at the first finite point, t = 0 */
+            path->t = path->started ? path->t + cr_path_dt(f, ray, s0, s1, path->dt, dt) : 0.0;
+            p[CR_P_T] = path->t - cr_ray_t_shift(ray, p[CR_P_R]);
+        } else {
+            path->t = p[CR_P_T];
+        }
         path->dt = dt;
         cr_path_store(path, p, path->lam + s1 * h);
     }

@@ -24,6 +24,27 @@
  * and the coordinate events of the chart (cr_ray_event_value,
  * cr_ray_event_locate): the disc plane theta = pi/2 and, under Mino, the sky
  * radius, whose crossing cr_ray_commit locates.
+ *
+ * Charts (Mino only; the rest of the program sees BL positions and
+ * momenta). A ray from an observer outside the horizon lives in BL
+ * coordinates throughout, as it always did. A ray from an observer between
+ * the horizons (f->obs_inside, r- < r < r+) starts in the ingoing Kerr chart
+ * (mino.h, CR_CHART_INGOING: pr carries phi~ = phi + F(r), metric.h). There
+ * every backward ray moves to larger r (r is a time coordinate inside, and
+ * the past lies toward r+), and it leaves the interior one of two ways, fixed
+ * by the sign of P(r+) = E (r+^2 + a^2) + a L, the photon's frequency on the
+ * horizon:
+ *   P(r+) > 0: the light came in through our future horizon. The ray is
+ *     followed through r+ in the ingoing chart (regular there) to r+ +
+ *     epsilon, where its step is cut (cr_ray_advance) and it changes to BL
+ *     (cr_ray_commit: phi = phi~ - F(r)); from there on it is an exterior
+ *     ray like any other (disc, spheres, sky; back to r+ + epsilon moving
+ *     inward: horizon, the past horizon, as for every exterior ray);
+ *   P(r+) <= 0: the light came from the other exterior of the eternal hole
+ *     (through the other half of the interior's past boundary, where v and
+ *     phi~ diverge): the ray ends at r+ - epsilon as CR_OUT_OTHER_SIDE.
+ * No event (disc, sphere) is looked for while the ray is in the ingoing
+ * chart: nothing curray draws exists inside r+ + epsilon.
  */
 #ifndef CR_CORE_RAY_H
 #define CR_CORE_RAY_H
@@ -60,7 +81,38 @@ typedef struct cr_ray {
      * changing sign over a step) and polar turning points (sign changes of
      * cr_ray_polar_rate); set to 0 by cr_trace_start. */
     int n_cross, n_turn;
+    /* The ingoing chart (header comment; all 0 for an exterior ray): where
+     * the ray leaves it (w_exit: f->w_stop going out, f->w_other bound for
+     * the other side), whether it goes out (exit_out), whether the current
+     * step ends there (exit_step), and whether it has left the interior
+     * (crossed, now in BL) or ended on the other side (other). */
+    double w_exit;
+    int exit_out, exit_step, crossed, other;
 } cr_ray;
+
+/* The ray is in the ingoing chart (inside r+ + epsilon, from an observer
+ * between the horizons). */
+CR_HD static inline int cr_ray_ingoing(const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO && ray->c.chart == CR_CHART_INGOING;
+}
+
+/* Whether the objects' events are looked for in the current step: not in
+ * the ingoing chart (header comment). */
+CR_HD static inline int cr_ray_events_on(const cr_ray *ray)
+{
+    return !cr_ray_ingoing(ray);
+}
+
+/* BL phi minus the state's atan2(n_y, n_x) + pr: -F(r) in the ingoing
+ * chart (phi = phi~ - F(r)), else 0. */
+CR_HD static inline double cr_ray_phi_shift(const cr_ray *ray, double r)
+{
+    double F = 0.0;
+    if (cr_ray_ingoing(ray))
+        cr_metric_ingoing_shift(&ray->g.mt, r, &F, 0);
+    return -F;
+}
 
 /* The ray's current state (the start of the current step) and the end of
  * the current step (set by cr_ray_advance), in the integrator's layout. */
@@ -128,7 +180,14 @@ CR_HD static inline void cr_ray_state_at(const cr_ray *ray, double s, double *ys
 CR_HD static inline void cr_ray_cart(const cr_frame *f, const cr_ray *ray, const double *y,
                                      double x[3])
 {
-    if (ray->kind == CR_INTEG_MINO)
+    if (cr_ray_ingoing(ray)) {
+        double yb[CR_MN];
+        int i;
+        for (i = 0; i < CR_MN; i++)
+            yb[i] = y[i];
+        yb[CR_M_PR] += cr_ray_phi_shift(ray, 1.0 / y[CR_M_W]);
+        cr_mino_cart(f->metric.a, yb, x);
+    } else if (ray->kind == CR_INTEG_MINO)
         cr_mino_cart(f->metric.a, y, x);
     else
         cr_bl_to_cart(f->metric.a, y[CR_Y_R], y[CR_Y_TH], y[CR_Y_PH], x);
@@ -142,6 +201,7 @@ CR_HD static inline void cr_ray_position(const cr_ray *ray, const double *y, dou
         double c, s;
         cr_mino_position(y, r, &c, &s, ph);
         *th = atan2(s, c);
+        *ph += cr_ray_phi_shift(ray, *r);
     } else {
         *r = y[CR_Y_R];
         *th = y[CR_Y_TH];
@@ -204,8 +264,9 @@ enum {
 
 /* The point of state y of the ray's integrator (the CR_RP_* layout above)
  * into p: t under rk4 only (cr_ray_has_t), position, u^mu; returns
- * dt/dparameter there (u^t under rk4, Sigma u^t under mino), or NaN at w = 0
- * (mino at infinity: no finite point). */
+ * dt/dparameter there (u^t under rk4, Sigma u^t under mino; for a ray from
+ * inside the horizon dv/dtau of the ingoing time instead, regular through
+ * r+: cr_ray_t_shift), or NaN at w = 0 (mino at infinity: no finite point). */
 CR_HD static inline double cr_ray_point(const cr_frame *f, const cr_ray *ray, const double *y,
                                         double *p)
 {
@@ -217,6 +278,7 @@ CR_HD static inline double cr_ray_point(const cr_frame *f, const cr_ray *ray, co
         if (!(w > 0.0))
             return NAN;
         cr_mino_position(y, &r, &c, &s, &ph);
+        ph += cr_ray_phi_shift(ray, r);
         psi = atan2(y[CR_M_NY], y[CR_M_NX]);
         /* dtheta/dtau = dn/dtau . e_theta for the unit vector n */
         dth = (y[CR_M_DNX] * c * cos(psi) + y[CR_M_DNY] * c * sin(psi) - y[CR_M_DNZ] * s) /
@@ -225,7 +287,7 @@ CR_HD static inline double cr_ray_point(const cr_frame *f, const cr_ray *ray, co
         p[CR_RP_R] = r;
         p[CR_RP_TH] = atan2(s, c);
         p[CR_RP_PH] = ph;
-        cr_mino_cart(a, y, p + CR_RP_X);
+        cr_ray_cart(f, ray, y, p + CR_RP_X);
         g.mt = f->metric;
         g.E = ray->c.E;
         g.L = ray->c.L;
@@ -241,7 +303,8 @@ CR_HD static inline double cr_ray_point(const cr_frame *f, const cr_ray *ray, co
         p[CR_RP_UR] = u[1];
         p[CR_RP_UTH] = u[2];
         p[CR_RP_UPH] = u[3];
-        return sig * u[0];
+        return cr_ray_ingoing(ray) || ray->crossed ? cr_mino_ingoing_dv(&ray->c, y)
+                                                   : sig * u[0];
     } else {
         double yb[CR_NY], dy[CR_NY];
         int i;
@@ -258,6 +321,17 @@ CR_HD static inline double cr_ray_point(const cr_frame *f, const cr_ray *ray, co
             p[CR_RP_UT + i] = u[i];
         return u[0];
     }
+}
+
+/* t = v - cr_ray_t_shift(ray, r) for a ray from inside the horizon once it
+ * has left the ingoing chart (G(r) of metric.h); 0 otherwise (inside, the
+ * time of its points is v itself; exterior rays have BL t). */
+CR_HD static inline double cr_ray_t_shift(const cr_ray *ray, double r)
+{
+    double G = 0.0;
+    if (ray->kind == CR_INTEG_MINO && ray->crossed)
+        cr_metric_ingoing_shift(&ray->g.mt, r, 0, &G);
+    return G;
 }
 
 /* Coordinate events located inside a step: the disc plane (for disc.h),
@@ -313,6 +387,8 @@ CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
 {
     ray->kind = CR_INTEG_MINO;
     ray->path = 0;
+    ray->w_exit = 0.0;
+    ray->exit_out = ray->exit_step = ray->crossed = ray->other = 0;
     if (fabs(ray->m[CR_M_NZ]) < 1e-15) /* cos(pi/2) rounded: on the disc plane */
         ray->m[CR_M_NZ] = 0.0;
     cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
@@ -328,10 +404,24 @@ CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, cons
     int i;
     ray->path = 0;
     ray->g = *g;
+    ray->w_exit = 0.0;
+    ray->exit_out = ray->exit_step = ray->crossed = ray->other = 0;
     for (i = 0; i < CR_NY; i++)
         ray->y[i] = y[i];
     if (f->integrator == CR_INTEG_MINO) {
         cr_mino_from_bl(g, y, f->w_stop, &ray->c, ray->m);
+        if (f->obs_inside) {
+            /* the ingoing chart (header comment) */
+            double rp = cr_metric_r_plus(&f->metric), F;
+            double P = g->E * (rp * rp + g->mt.a * g->mt.a) + g->mt.a * g->L;
+            cr_metric_ingoing_shift(&f->metric, y[CR_Y_R], &F, 0);
+            ray->c.chart = CR_CHART_INGOING;
+            ray->m[CR_M_PR] += F;
+            cr_ray_mino_start(f, ray);
+            ray->exit_out = P > 0.0;
+            ray->w_exit = ray->exit_out ? f->w_stop : f->w_other;
+            return;
+        }
         cr_ray_mino_start(f, ray);
     } else {
         ray->kind = CR_INTEG_RK4;
@@ -350,10 +440,25 @@ CR_HD static inline double cr_ray_begin(cr_ray *ray)
     return cr_geo_null_error(&p, ray->u);
 }
 
+/* The ray reached the horizon stop r+ + epsilon from outside: in BL, and
+ * moving inward if it came out of the interior (it starts there at the
+ * stop). In the ingoing chart: it moves inward (dw/dtau >= 0), which a ray
+ * between the horizons never does (R > 0 there): it came out through r+,
+ * turned between r+ and r+ + epsilon and falls back toward the past horizon,
+ * the end of every exterior ray that reaches the stop. */
 CR_HD static inline int cr_ray_at_horizon(const cr_frame *f, const cr_ray *ray)
 {
-    return ray->kind == CR_INTEG_MINO ? ray->m[CR_M_W] >= f->w_stop
-                                      : ray->y[CR_Y_R] <= f->r_stop;
+    if (cr_ray_ingoing(ray))
+        return ray->m[CR_M_DW] >= 0.0;
+    return ray->kind == CR_INTEG_MINO
+               ? ray->m[CR_M_W] >= f->w_stop && (!ray->crossed || ray->m[CR_M_DW] > 0.0)
+               : ray->y[CR_Y_R] <= f->r_stop;
+}
+
+/* The ray ended at r+ - epsilon bound for the other side (header comment). */
+CR_HD static inline int cr_ray_other_side(const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO && ray->other;
 }
 
 /* How far state y of the ray's integrator lies beyond the horizon stop
@@ -361,6 +466,8 @@ CR_HD static inline int cr_ray_at_horizon(const cr_frame *f, const cr_ray *ray)
 CR_HD static inline double cr_ray_beyond_stop(const cr_frame *f, const cr_ray *ray,
                                               const double *y)
 {
+    if (cr_ray_ingoing(ray))
+        return -1.0; /* its steps end where it leaves the chart */
     return ray->kind == CR_INTEG_MINO ? y[CR_M_W] - f->w_stop : f->r_stop - y[CR_Y_R];
 }
 
@@ -393,21 +500,46 @@ CR_HD static inline int cr_ray_misses_scene(const cr_frame *f, const cr_ray *ray
 }
 
 /* One step from the current state to y1 / m1. Returns 0, or -1 when the
- * integration failed (non-finite state, step size collapsed). */
+ * integration failed (non-finite state, step size collapsed). In the
+ * ingoing chart a step that passes w_exit is taken again, shortened to end
+ * there (located on its dense output; exit_step set); a state there with
+ * dw/dtau not negative (NaN: moving inward ends the ray before,
+ * cr_ray_at_horizon) fails. */
 CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
 {
     int tries, i;
     if (ray->kind == CR_INTEG_MINO) {
         double h = ray->h_next;
+        int cut = 0;
+        ray->exit_step = 0;
+        if (cr_ray_ingoing(ray) && !(ray->m[CR_M_DW] < 0.0))
+            return -1;
         for (tries = 0;; tries++) {
             double err = cr_dp5_try(&ray->c, f->tolerance, h, ray->m, &ray->st, ray->m1);
             double fac = cr_dp5_factor(err);
             if (err <= 1.0) {
+                double v0 = ray->m[CR_M_W] - ray->w_exit, v1 = ray->m1[CR_M_W] - ray->w_exit;
                 ray->hm = h;
-                ray->h_next = h * (tries > 0 && fac > 1.0 ? 1.0 : fac);
+                if (cr_ray_ingoing(ray) && !cut && v1 <= 0.0 && v0 > 0.0) {
+                    /* leaves the chart inside this step: end the step there */
+                    double ys[CR_RAY_NY];
+                    cr_falsi z;
+                    cr_falsi_start(&z, v0, 1.0, v1);
+                    while (cr_falsi_next(&z)) {
+                        cr_ray_state_at(ray, z.s, ys);
+                        if (!cr_falsi_update(&z, ys[CR_M_W] - ray->w_exit))
+                            break;
+                    }
+                    h *= z.s;
+                    cut = 1;
+                    continue;
+                }
+                ray->exit_step = cut;
+                ray->h_next = cut ? ray->h_next : h * (tries > 0 && fac > 1.0 ? 1.0 : fac);
                 return 0;
             }
             h *= fac;
+            cut = 0;
             if (tries == 60 || !(h > 0.0))
                 return -1;
         }
@@ -437,6 +569,21 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
         double d0 = ray->m1[CR_M_NX] - ray->m[CR_M_NX], d1 = ray->m1[CR_M_NY] - ray->m[CR_M_NY],
                d2 = ray->m1[CR_M_NZ] - ray->m[CR_M_NZ];
         *turns += sqrt(d0 * d0 + d1 * d1 + d2 * d2) / CR_TWO_PI;
+        if (ray->exit_step) {
+            /* the step ends where the ray leaves the ingoing chart */
+            for (i = 0; i < CR_MN; i++)
+                ray->m[i] = ray->m1[i];
+            ray->exit_step = 0;
+            if (!ray->exit_out) {
+                ray->other = 1;
+                return;
+            }
+            ray->m[CR_M_PR] += cr_ray_phi_shift(ray, 1.0 / ray->m[CR_M_W]); /* phi~ - F */
+            ray->c.chart = CR_CHART_BL;
+            ray->crossed = 1;
+            cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
+            return;
+        }
         if (ray->m1[CR_M_W] < f->w_sky && ray->m1[CR_M_DW] < 0.0 &&
             ray->m[CR_M_W] > f->w_sky) {
             double ys[CR_RAY_NY];

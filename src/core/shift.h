@@ -70,12 +70,19 @@ CR_HD static inline void cr_frame_observer_velocity(const cr_frame *f, double u[
  * observer. A moving observer (observer.h) may have u^r, u^theta != 0, so
  * p_obs must be the ray's own momentum there; for an observer with
  * u^r = u^theta = 0 (static, ZAMO, orbit, at infinity) only the conserved
- * p_t, p_phi of p_obs enter, and p itself serves. -1 where the ratio is
- * undefined (cr_shift_ratio). */
+ * p_t, p_phi of p_obs enter, and p itself serves. For an observer between
+ * the horizons (f->obs_inside) the observer's side is its exact value 1.
+ * -1 where the ratio is undefined (cr_shift_ratio). */
 CR_HD static inline double cr_frame_shift(const cr_frame *f, const double p_obs[4],
                                           const double p[4], const double u_em[4])
 {
     double u_obs[4];
+    if (f->obs_inside) {
+        /* p . u_obs = 1 exactly: the camera's backward tangent is -e_0 + n^i e_i
+         * (camera.h); the BL product would cancel terms of order 1/Delta */
+        double one[4] = {1.0, 0.0, 0.0, 0.0}, u1[4] = {1.0, 0.0, 0.0, 0.0};
+        return cr_shift_ratio(one, u1, p, u_em);
+    }
     cr_frame_observer_velocity(f, u_obs);
     return cr_shift_ratio(p_obs, u_obs, p, u_em);
 }

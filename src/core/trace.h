@@ -3,7 +3,9 @@
  *
  * One loop (chapter 6) for both integrators (the frame's integrator behind
  * ray.h): from the observer's state, repeat
- *   the ends (6.8): at the horizon stop -> horizon; beyond the sky radius
+ *   the ends (6.8): at the horizon stop -> horizon; at r+ - epsilon bound
+ *     for the other exterior (from inside the horizon) -> other side;
+ *     beyond the sky radius
  *     moving outward -> sky (sky.h); step or turn limit -> limit;
  *   one step (cr_ray_advance), with its error monitor;
  *   find the hits inside the step: each object's event (disc.h, sphere.h)
@@ -86,6 +88,14 @@ CR_HD static inline void cr_trace_horizon(const cr_frame *f, cr_pixel *px)
     px->redshift = 0.0;
 }
 
+/* The ray left the interior toward the other exterior (ray.h): no source
+ * of ours lies there, so no frequency ratio. */
+CR_HD static inline void cr_trace_other_side(const cr_frame *f, cr_pixel *px)
+{
+    px->outcome = CR_OUT_OTHER_SIDE;
+    px->color = f->other_side_color;
+}
+
 /* The hit that ends the ray inside the current step: the objects' events
  * (each fills its own hit) and the earliest of them, the disc on a tie.
  * Returns CR_OUT_DISC, CR_OUT_SPHERE or CR_OUT_NONE. x0: as for
@@ -93,8 +103,14 @@ CR_HD static inline void cr_trace_horizon(const cr_frame *f, cr_pixel *px)
 CR_HD static inline int cr_trace_find_hit(const cr_frame *f, const cr_ray *ray, double x0[3],
                                           cr_hit *disc, cr_hit *sphere)
 {
-    int on_disc = cr_disc_event(f, ray, disc);
-    int on_sphere = cr_sphere_event(f, ray, x0, sphere);
+    int on_disc, on_sphere;
+    if (!cr_ray_events_on(ray)) {
+        if (f->n_spheres > 0) /* x0 follows the step, as cr_sphere_event does */
+            cr_ray_cart(f, ray, cr_ray_y1(ray), x0);
+        return CR_OUT_NONE;
+    }
+    on_disc = cr_disc_event(f, ray, disc);
+    on_sphere = cr_sphere_event(f, ray, x0, sphere);
     if (on_sphere && (!on_disc || sphere->s < disc->s))
         return CR_OUT_SPHERE;
     return on_disc ? CR_OUT_DISC : CR_OUT_NONE;
@@ -141,6 +157,10 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
         int what;
         if (cr_ray_at_horizon(f, ray)) {
             cr_trace_horizon(f, &px);
+            break;
+        }
+        if (cr_ray_other_side(ray)) {
+            cr_trace_other_side(f, &px);
             break;
         }
         cr_monitor_add(&mon, cr_ray_begin(ray));

@@ -32,7 +32,8 @@
     X(CR_OUT_SKY, "sky")                                                                       \
     X(CR_OUT_ERROR, "error")                                                                   \
     X(CR_OUT_LIMIT, "limit")                                                                   \
-    X(CR_OUT_OUTSIDE, "outside")
+    X(CR_OUT_OUTSIDE, "outside")                                                               \
+    X(CR_OUT_OTHER_SIDE, "other side")
 
 #define WORD_AT(v, w) [v] = w,
 #define LIST_ITEM(v, w) ", " w

@@ -92,6 +92,7 @@ typedef struct cr_scene {
     cr_rgb horizon_color; /* default red */
     cr_rgb error_color;   /* default blue */
     cr_rgb limit_color;   /* default yellow */
+    cr_rgb other_side_color; /* default purple (96, 0, 128) */
     int redshift_sky;     /* redshift_sky: colour the sky in r_<k>.png by its
                              shift (cr_redshift_sky_color); default 0, black as
                              in the paper (6.9) */

@@ -203,6 +203,58 @@ static int extent_fail(const cr_scene *s, int k, int n, double m, const cr_obser
                       !h && !s->has_vextent ? "; use a smaller hextent or a wider image" : "");
 }
 
+/* How close to a horizon (relative to r+) an observer may be: the BL
+ * components of its frame grow as 1/Delta, and on the horizon none exists. */
+#define HORIZON_GAP_TOL 1e-9
+
+/* An observer between the horizons, r- < r < r+ (observer.h: the free-fall
+ * frame; ray.h: the ingoing chart): only infall and a velocity measured by
+ * the free-faller exist there. */
+static int frame_inside(const cr_scene *s, int k, int n, const cr_metric *mt,
+                        const cr_observer *o, cr_err *err)
+{
+    double rp = cr_metric_r_plus(mt), rm = cr_metric_r_minus(mt);
+    if (!(rp - rm > HORIZON_GAP_TOL * rp))
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g is inside the horizon r+ = %g of an extremal hole "
+                          "(r- = r+): there is no region between the horizons, and curray "
+                          "does not trace observers inside r-",
+                          o->r, rp);
+    if (!(o->r > 0.0))
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g: an observer inside the horizon needs 0 < r < r+ = "
+                          "%g (r = 0 is the singularity)",
+                          o->r, rp);
+    if (o->r <= rm * (1.0 + HORIZON_GAP_TOL))
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g is %s the inner horizon r- = %g: curray traces "
+                          "observers outside r+ and between the horizons (r- < r < r+ = %g), "
+                          "not on or inside r-",
+                          o->r, o->r < rm * (1.0 - HORIZON_GAP_TOL) ? "inside" : "on", rm, rp);
+    if (o->motion == CR_MOTION_STATIC)
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g is inside the event horizon r+ = %g, where no "
+                          "observer can stay at rest (r is a time there: everything moves to "
+                          "smaller r); use observer.motion: infall (free fall from rest at "
+                          "infinity), or a velocity [v_r, v_theta, v_phi] measured by that "
+                          "free-faller",
+                          o->r, rp);
+    if (o->motion == CR_MOTION_ZAMO)
+        return frame_fail(err, s, k, n,
+                          "observer.motion = zamo: no zero angular momentum observer exists "
+                          "inside the event horizon (observer.r = %g < r+ = %g, where its lapse "
+                          "sqrt(Delta Sigma / A) is imaginary); use infall, or a velocity "
+                          "measured by the free-faller",
+                          o->r, rp);
+    if (o->motion == CR_MOTION_ORBIT)
+        return frame_fail(err, s, k, n,
+                          "observer.motion = orbit: no circular orbit exists inside the event "
+                          "horizon (observer.r = %g < r+ = %g); use infall, or a velocity "
+                          "measured by the free-faller",
+                          o->r, rp);
+    return frame_motion(s, k, n, mt, o, err);
+}
+
 static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, int width,
                           int height, cr_observer *o, cr_err *err)
 {
@@ -246,9 +298,17 @@ static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, 
         return 0;
     }
     rp = cr_metric_r_plus(mt);
-    if (o->r <= rp)
+    if (fabs(o->r - rp) <= HORIZON_GAP_TOL * rp)
         return frame_fail(err, s, k, n,
-                          "observer.r = %g is at or inside the event horizon r+ = %g", o->r, rp);
+                          "observer.r = %.10g is on the event horizon r+ = %.10g, where no "
+                          "camera frame exists; keep it at least %g r+ away (outside, or "
+                          "inside with motion infall)",
+                          o->r, rp, HORIZON_GAP_TOL);
+    if (o->r < rp) {
+        if (frame_inside(s, k, n, mt, o, err))
+            return -1;
+        goto projection;
+    }
     re = cr_metric_r_ergo(mt, o->theta);
     mgtt = cr_metric_minus_gtt(mt, o->r, o->theta);
     if (o->r > re && !isfinite(mgtt)) /* r^2 overflows or underflows */
@@ -276,6 +336,7 @@ static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, 
                           o->r, DEG(o->theta), re);
     if (o->motion != CR_MOTION_STATIC && frame_motion(s, k, n, mt, o, err))
         return -1;
+projection:
     if (o->projection == CR_PROJ_EQUIRECT) {
         o->hfov = CR_TWO_PI;
         o->vfov = CR_PI;
@@ -500,6 +561,12 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
         frame_observer(s, k, n, &f->metric, width, height, &f->observer, err) ||
         frame_disc(s, k, n, &f->disc, err))
         return -1;
+    if (!s->obs_at_infinity && f->observer.r < cr_metric_r_plus(&f->metric) &&
+        f->integrator == CR_INTEG_RK4)
+        return frame_fail(err, s, k, n,
+                          "raytracer.integrator = rk4 cannot follow rays through a horizon "
+                          "(observer.r = %g is inside r+ = %g); use mino (the default)",
+                          f->observer.r, cr_metric_r_plus(&f->metric));
     for (i = 0; i < s->n_spheres; i++)
         if (frame_sphere(s, k, n, i, f->metric.a, &sphere_buf[i], err))
             return -1;
@@ -521,6 +588,7 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     f->horizon_color = s->horizon_color;
     f->error_color = s->error_color;
     f->limit_color = s->limit_color;
+    f->other_side_color = s->other_side_color;
     f->width = width;
     f->height = height;
     /* inside the core every length is in units of M (messages above use the
@@ -538,14 +606,15 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
          * just outside the horizon work): stop rays halfway between the
          * observer and r+ instead; the caller sees the smaller
          * horizon_epsilon in the frame and says so */
-        double gap = f->observer.r - cr_metric_r_plus(&f->metric);
+        double gap = fabs(f->observer.r - cr_metric_r_plus(&f->metric));
         if (gap < 2.0 * f->horizon_epsilon)
             f->horizon_epsilon = 0.5 * gap;
     }
     cr_frame_prepare(f);
     /* the boundary of an observer at infinity is at infinity too */
     if (!(isfinite(f->r_max) || (s->obs_at_infinity && f->r_max == INFINITY)) ||
-        !isfinite(f->r_stop) || !(f->obs_sqrt_mgtt > 0.0) ||
+        !isfinite(f->r_stop) ||
+        !(f->obs_inside ? f->obs_sqrt_mgtt < 0.0 : f->obs_sqrt_mgtt > 0.0) ||
         !isfinite(f->obs_sqrt_mgtt) || !isfinite(f->tan_half_h) || !isfinite(f->tan_half_v))
         return frame_fail(err, s, k, n,
                           "the scene's numbers are too large to trace (r_max = %g)", f->r_max);

@@ -740,12 +740,13 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
                        cr_scene *s, cr_err *err)
 {
     enum {
-        METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, LIMITC, REDSKY, N
+        METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, LIMITC, REDSKY,
+        OTHERC, N
     };
     cr_yaml_field f[N] = {REQ("metric"),    REQ("observer"),      OPT("accretion"),
                           OPT("skymap"),    MANY("sphere"),       OPT("spheres"),
                           OPT("sky_color"), OPT("horizon_color"), OPT("error_color"),
-                          OPT("limit_color"), OPT("redshift_sky")};
+                          OPT("limit_color"), OPT("redshift_sky"), OPT("other_side_color")};
     cr_yaml y;
     yaml_node_t *root;
     char got[96];
@@ -778,6 +779,7 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
         field_rgb(&y, &f[HORIZON], NULL, RGB(255, 0, 0), &s->horizon_color, err) ||
         field_rgb(&y, &f[ERRC], NULL, RGB(0, 0, 255), &s->error_color, err) ||
         field_rgb(&y, &f[LIMITC], NULL, RGB(255, 255, 0), &s->limit_color, err) ||
+        field_rgb(&y, &f[OTHERC], NULL, RGB(96, 0, 128), &s->other_side_color, err) ||
         (f[REDSKY].value &&
          cr_yaml_bool(&y, f[REDSKY].value, "redshift_sky", &s->redshift_sky, err)))
         goto fail;

@@ -60,6 +60,7 @@ static void scene_defaults(cr_web *w)
     s->horizon_color = cr_rgb_make(255, 0, 0);
     s->error_color = cr_rgb_make(0, 0, 255);
     s->limit_color = cr_rgb_make(255, 255, 0);
+    s->other_side_color = cr_rgb_make(96, 0, 128);
     s->obs_motion = CR_MOTION_STATIC;
     s->obs_projection = CR_PROJ_RECTILINEAR;
     s->disc_model = CR_DISC_CHESSBOARD;

@@ -1,0 +1,598 @@
+/* Light and observers inside a Kerr-Newman hole (ray.h's ingoing chart,
+ * observer.h's free-fall frame) against independent results.
+ *
+ * 1. The ingoing chart's rates against the BL equations: at 3000 random null
+ *    states outside the horizon (a, Q random with a^2 + Q^2 < 1, r from
+ *    r+ (1 + 1e-3) to 100 M, directions random in the ZAMO frame), the
+ *    ingoing azimuth rate of cr_mino_rhs equals the BL rate plus
+ *    (a/Delta) dr/dtau, and cr_mino_ingoing_dv equals Sigma u^t +
+ *    ((r^2 + a^2)/Delta) Sigma u^r with u^t from geodesic.h, both to 1e-10
+ *    relative to the magnitude of the terms.
+ * 2. The null condition along rays that cross r+: from infalling observers
+ *    between the horizons of four holes (Schwarzschild, Reissner-Nordstrom
+ *    Q = 0.8, Kerr a = 0.9, Kerr-Newman a = 0.6, Q = 0.5) at tol 1e-12, the
+ *    tangent of every state at fractions 1/4 .. 1 of every step, written in
+ *    ingoing Kerr coordinates (v, r, theta, phi~) with the ingoing metric
+ *    written out here, is null to 1e-10 (g(u,u) over the sum of the
+ *    magnitudes of its terms) in the ingoing chart, and so is the BL
+ *    tangent in the BL metric for the first 20 steps after the change to
+ *    BL; each hole has rays that cross.
+ * 3. Schwarzschild interior: a radial free-faller from rest at infinity at
+ *    r = 1.5, 1, 0.5 M, a 360 deg fisheye 721 px wide (0.5 deg a pixel). In
+ *    its frame a photon arriving from angle psi to the outward direction has
+ *    E = 1 + cos(psi) sqrt(2M/r) and impact parameter b = r sin(psi) / E. It
+ *    came from our exterior iff E > 0 (P(r+) = E r+^2), and from our sky iff
+ *    also b < 3 sqrt(3) M; E < 0 is the other side. The two edges, found by
+ *    bisection on traced rays along the image's centre row, lie within
+ *    1e-3 px of those closed-form angles (found: below 1e-7 px).
+ * 4. Reissner-Nordstrom Q = 0.8 M (r- = 0.4, r+ = 1.6): the same at r = 1.2
+ *    and 0.6 M (E = 1 + cos(psi) sqrt(2M/r - Q^2/r^2), b_c = r_ph^2 /
+ *    sqrt(r_ph^2 - 2 M r_ph + Q^2)); and one equatorial ray's path from
+ *    r = 1.0 M out through r+ to 20 M against the exact radial integral
+ *    phi(r) = int L dr / sqrt(E^2 r^4 - Delta L^2) (Gauss-Legendre), to
+ *    1e-8 rad at every path point.
+ * 5. Continuity across r+: an infalling observer of a Kerr-Newman hole
+ *    (a = 0.6, Q = 0.3) at r+ (1 + 1e-6) (boosted ZAMO frame, outside) and at
+ *    r+ (1 - 1e-6) (free-fall frame, inside), a disc from 3 to 15 M: the
+ *    same 41 x 41 fisheye image; >= 99 % of the pixels end the same way
+ *    (the boundary V = 0 counting as one: horizon outside, other side
+ *    inside), and where both hit the disc the hit radius differs by less
+ *    than 1e-3 relative and the azimuth by less than 1e-3 rad.
+ * 6. The two frames agree: the free-fall tetrad at r = 3 M equals the
+ *    boosted-ZAMO infall tetrad of observer.h to 1e-12, and is orthonormal
+ *    inside (r between the horizons) to 1e-12.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include <cmocka.h>
+
+#include "input/scene.h"
+#include "testutil.h"
+
+#define DEG (CR_PI / 180.0)
+
+/* A prepared frame: infalling observer at (r, th, phi = 0) of a hole (1, a, q),
+ * fisheye of full angle 360 deg, w x h pixels, tolerance tol; the horizon stop
+ * halved within 2 epsilon of the observer, as the scene's validation does. */
+static void fall_frame(cr_frame *f, double a, double q, double r, double th, int w, int h,
+                       double tol)
+{
+    double gap;
+    cr_test_empty_frame(f, 1.0, a, q, 30.0, th);
+    f->observer.r = r;
+    f->observer.motion = CR_MOTION_INFALL;
+    f->observer.projection = CR_PROJ_FISHEYE;
+    f->observer.hfov = CR_TWO_PI;
+    f->observer.vfov = CR_TWO_PI * h / w;
+    f->width = w;
+    f->height = h;
+    f->tolerance = tol;
+    f->other_side_color.r = 96;
+    f->other_side_color.b = 128;
+    gap = fabs(r - cr_metric_r_plus(&f->metric));
+    if (gap < 2.0 * f->horizon_epsilon)
+        f->horizon_epsilon = 0.5 * gap;
+    cr_frame_prepare(f);
+}
+
+/* ---- 1. the ingoing rates against BL ------------------------------------ */
+
+static void test_ingoing_rhs_vs_bl(void **state)
+{
+    uint64_t seed = 0x1234567ULL;
+    double worst_p = 0.0, worst_v = 0.0;
+    int i;
+    (void)state;
+    for (i = 0; i < 3000; i++) {
+        cr_metric mt;
+        cr_metric_point p;
+        cr_geo g;
+        cr_mino c;
+        double e[4][4], u[4], yb[CR_NY], y[CR_MN], d0[CR_MN], d1[CR_MN], n[3], len, rp, r, th;
+        double a = 2.0 * cr_test_rand(&seed) - 1.0, q = 0.0, drt, sig, scale, want, k;
+        int j;
+        if (i % 2)
+            q = (2.0 * cr_test_rand(&seed) - 1.0) * sqrt(1.0 - a * a) * 0.99;
+        mt.m = 1.0;
+        mt.a = a;
+        mt.q = q;
+        rp = cr_metric_r_plus(&mt);
+        r = rp * (1.0 + 1e-3 + 100.0 * cr_test_rand(&seed) * cr_test_rand(&seed));
+        th = 0.05 + (CR_PI - 0.1) * cr_test_rand(&seed);
+        cr_zamo_tetrad(&mt, r, th, 0, e, NULL, NULL, NULL);
+        do {
+            for (j = 0; j < 3; j++)
+                n[j] = 2.0 * cr_test_rand(&seed) - 1.0;
+            len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        } while (len > 1.0 || len < 0.1);
+        for (j = 0; j < 4; j++)
+            u[j] = -e[0][j] + (n[0] * e[1][j] + n[1] * e[2][j] + n[2] * e[3][j]) / len;
+        cr_metric_eval(&mt, r, th, &p);
+        g.mt = mt;
+        cr_geo_constants(&p, u, &g.E, &g.L);
+        yb[CR_Y_T] = 0.0;
+        yb[CR_Y_R] = r;
+        yb[CR_Y_TH] = th;
+        yb[CR_Y_PH] = 0.3;
+        yb[CR_Y_UR] = u[1];
+        yb[CR_Y_UTH] = u[2];
+        cr_mino_from_bl(&g, yb, 1.0 / rp, &c, y);
+        cr_mino_rhs(&c, y, d0);
+        c.chart = CR_CHART_INGOING;
+        cr_mino_rhs(&c, y, d1);
+        for (j = 0; j < CR_MN; j++)
+            if (j != CR_M_PR)
+                assert_true(d0[j] == d1[j]);
+        /* independent: dr/dtau = Sigma u^r, the BL u^t of geodesic.h */
+        sig = p.sigma;
+        drt = sig * u[1];
+        cr_geo_velocity(&g, yb, &p, u);
+        k = a / p.delta * drt;
+        want = d0[CR_M_PR] + k;
+        scale = fabs(d0[CR_M_PR]) + fabs(k) + fabs(a * g.E);
+        worst_p = fmax(worst_p, fabs(d1[CR_M_PR] - want) / scale);
+        want = sig * u[0] + (r * r + a * a) / p.delta * drt;
+        scale = fabs(sig * u[0]) + fabs((r * r + a * a) / p.delta * drt);
+        worst_v = fmax(worst_v, fabs(cr_mino_ingoing_dv(&c, y) - want) / scale);
+    }
+    printf("ingoing rates vs BL: worst relative error phi~ %.2e, v %.2e\n", worst_p, worst_v);
+    assert_true(worst_p < 1e-10);
+    assert_true(worst_v < 1e-10);
+}
+
+/* ---- 2. the null condition across r+ ------------------------------------ */
+
+/* g(u,u) / sum |terms| of the tangent (dv, dr, dth, dph~) at (r, th) in the
+ * ingoing Kerr-Newman metric
+ *   ds^2 = -(1 - W/Sigma) dv^2 + 2 dv dr - 2 a s^2 dr dph~ - 2 a s^2 (W/Sigma) dv dph~
+ *          + Sigma dth^2 + (A s^2/Sigma) dph~^2,   W = 2Mr - Q^2. */
+static double ingoing_null(double a, double q, double r, double th, const double t[4])
+{
+    double s2 = sin(th) * sin(th), c2 = cos(th) * cos(th);
+    double sig = r * r + a * a * c2, W = 2.0 * r - q * q, del = r * r + a * a - W;
+    double A = (r * r + a * a) * (r * r + a * a) - del * a * a * s2;
+    double terms[6];
+    double sum = 0.0, mag = 0.0;
+    int i;
+    terms[0] = -(1.0 - W / sig) * t[0] * t[0];
+    terms[1] = 2.0 * t[0] * t[1];
+    terms[2] = -2.0 * a * s2 * t[1] * t[3];
+    terms[3] = -2.0 * a * s2 * W / sig * t[0] * t[3];
+    terms[4] = sig * t[2] * t[2];
+    terms[5] = A * s2 / sig * t[3] * t[3];
+    for (i = 0; i < 6; i++) {
+        sum += terms[i];
+        mag += fabs(terms[i]);
+    }
+    return sum / mag;
+}
+
+/* The null norm of Mino state y of ray: in the ingoing chart the tangent
+ * d/dtau (v, r, th, ph~) in the ingoing metric above; in BL (after the ray
+ * left the interior) the BL tangent in the BL metric (cr_geo_null_norm: the
+ * ingoing form is ill-conditioned there for outgoing rays, whose dv is the
+ * small difference of two large BL terms). */
+static double state_null(const cr_frame *f, const cr_ray *ray, const double *y)
+{
+    double d[CR_MN], t[4], w = y[CR_M_W], nx = y[CR_M_NX], ny = y[CR_M_NY], nz = y[CR_M_NZ];
+    double rho2 = nx * nx + ny * ny, n2 = rho2 + nz * nz, r, th;
+    cr_mino_rhs(&ray->c, y, d);
+    r = 1.0 / w;
+    th = atan2(sqrt(rho2), nz);
+    t[1] = -d[CR_M_W] / (w * w);
+    /* dth/dtau of the unit vector n/|n| */
+    t[2] = ((nz * (nx * d[CR_M_NX] + ny * d[CR_M_NY]) - rho2 * d[CR_M_NZ]) / sqrt(rho2)) / n2;
+    t[3] = (nx * d[CR_M_NY] - ny * d[CR_M_NX]) / rho2 + d[CR_M_PR];
+    if (ray->c.chart == CR_CHART_INGOING) {
+        t[0] = cr_mino_ingoing_dv(&ray->c, y);
+        return ingoing_null(f->metric.a, f->metric.q, r, th, t);
+    }
+    {
+        cr_metric_point p;
+        cr_geo g;
+        double yb[CR_NY], u[4];
+        cr_metric_eval(&f->metric, r, th, &p);
+        g.mt = f->metric;
+        g.E = ray->c.E;
+        g.L = ray->c.L;
+        yb[CR_Y_R] = r;
+        yb[CR_Y_TH] = th;
+        yb[CR_Y_UR] = t[1] / p.sigma;
+        yb[CR_Y_UTH] = t[2] / p.sigma;
+        cr_geo_velocity(&g, yb, &p, u);
+        return cr_geo_null_norm(&p, u);
+    }
+}
+
+static void test_null_across_horizon(void **state)
+{
+    const double holes[4][3] = {{0.0, 0.0, 1.0}, {0.0, 0.8, 1.2}, {0.9, 0.0, 1.2},
+                                {0.6, 0.5, 1.1}};
+    int hi;
+    (void)state;
+    for (hi = 0; hi < 4; hi++) {
+        cr_frame f;
+        double worst = 0.0;
+        int crossed = 0, px;
+        fall_frame(&f, holes[hi][0], holes[hi][1], holes[hi][2], 70.0 * DEG, 9, 9, 1e-12);
+        assert_true(f.obs_inside);
+        for (px = 0; px < 81; px++) {
+            cr_ray ray;
+            double n[3], yb[CR_NY], turns = 0.0;
+            cr_geo g;
+            int steps, after = -1;
+            if (!cr_camera_in_image(&f, px % 9, px / 9))
+                continue;
+            cr_camera_pixel_dir(&f, px % 9, px / 9, n);
+            cr_camera_ray(&f, n, &g, yb);
+            cr_ray_from_bl(&f, &g, yb, &ray);
+            for (steps = 0; steps < 5000 && after < 20; steps++) {
+                int k;
+                if (cr_ray_at_horizon(&f, &ray) || cr_ray_other_side(&ray) ||
+                    cr_ray_escaping(&f, &ray))
+                    break;
+                cr_ray_begin(&ray);
+                assert_int_equal(cr_ray_advance(&f, &ray), 0);
+                for (k = 1; k <= 4; k++) {
+                    double ys[CR_MN];
+                    cr_ray_state_at(&ray, 0.25 * k, ys);
+                    worst = fmax(worst, fabs(state_null(&f, &ray, ys)));
+                }
+                cr_ray_commit(&f, &ray, &turns);
+                if (ray.crossed && after < 0) {
+                    after = 0;
+                    crossed++;
+                }
+                if (after >= 0)
+                    after++;
+            }
+        }
+        printf("a = %g, Q = %g, r = %g: %d of the rays cross r+, worst null norm %.2e\n",
+               holes[hi][0], holes[hi][1], holes[hi][2], crossed, worst);
+        assert_true(crossed > 10);
+        assert_true(worst < 1e-10);
+    }
+}
+
+/* ---- 3, 4. the edges of our universe seen from inside -------------------- */
+
+/* Outcome class along the centre row at fractional pixel x: 0 other side,
+ * 1 horizon, 2 sky. */
+static int row_class(const cr_frame *f, double x)
+{
+    cr_pixel p = cr_trace_point(f, x, 0.5 * (f->height - 1));
+    if (p.outcome == CR_OUT_OTHER_SIDE)
+        return 0;
+    if (p.outcome == CR_OUT_HORIZON)
+        return 1;
+    assert_int_equal(p.outcome, CR_OUT_SKY);
+    return 2;
+}
+
+/* The fractional pixel x in (lo, hi) where the class changes from below c to c. */
+static double row_edge(const cr_frame *f, double lo, double hi, int c)
+{
+    int it;
+    assert_true(row_class(f, lo) < c && row_class(f, hi) >= c);
+    for (it = 0; it < 40; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (row_class(f, mid) >= c)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* Closed form: the angle alpha from the camera's forward (-e_r, down) where
+ * E = 1 + cos(psi) vr = 0 (psi = pi - alpha), and where b = r sin(psi) / E =
+ * b_c with E > 0 (bisection on psi in (0, psi_0)). vr = |u^r| = the infall
+ * speed term sqrt(2M/r - Q^2/r^2). */
+static void closed_edges(double r, double vr, double bc, double *al_other, double *al_sky)
+{
+    double psi0 = acos(-1.0 / vr), lo = 0.0, hi = psi0;
+    int it;
+    for (it = 0; it < 200; it++) {
+        double mid = 0.5 * (lo + hi);
+        double b = r * sin(mid) / (1.0 + cos(mid) * vr);
+        if (b < bc)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    *al_other = CR_PI - psi0;
+    *al_sky = CR_PI - 0.5 * (lo + hi);
+}
+
+/* Pixel x (fractional, centre row) of the angle alpha from forward, 360 deg
+ * fisheye of width w: sx = (2 (x + 1/2)/w - 1) pi = alpha. */
+static double alpha_pixel(double al, int w)
+{
+    return (al / CR_PI + 1.0) * 0.5 * w - 0.5;
+}
+
+static void check_edges(double q, double r, double bc, double *worst)
+{
+    cr_frame f;
+    const int w = 721;
+    double vr = sqrt(2.0 / r - q * q / (r * r)), ao, as, xo, xs, to, ts;
+    fall_frame(&f, 0.0, q, r, 90.0 * DEG, w, 3, 1e-9);
+    f.sky_color.g = 255;
+    closed_edges(r, vr, bc, &ao, &as);
+    xo = alpha_pixel(ao, w);
+    xs = alpha_pixel(as, w);
+    to = row_edge(&f, 0.5 * (w - 1), xo + 0.5 * (xs - xo), 1);
+    ts = row_edge(&f, xo + 0.5 * (xs - xo), w - 1.0, 2);
+    printf("Q = %g, r = %g: other side edge %.4f deg (closed %.4f), sky edge %.4f deg "
+           "(closed %.4f): off by %.1e and %.1e px\n",
+           q, r, (to + 0.5) / (0.5 * w) * 180.0 - 180.0, ao / DEG,
+           (ts + 0.5) / (0.5 * w) * 180.0 - 180.0, as / DEG, to - xo, ts - xs);
+    *worst = fmax(*worst, fmax(fabs(to - xo), fabs(ts - xs)));
+}
+
+static void test_schwarzschild_interior(void **state)
+{
+    double worst = 0.0;
+    (void)state;
+    check_edges(0.0, 1.5, sqrt(27.0), &worst);
+    check_edges(0.0, 1.0, sqrt(27.0), &worst);
+    check_edges(0.0, 0.5, sqrt(27.0), &worst);
+    assert_true(worst < 1e-3);
+}
+
+static double rn_bc(double q)
+{
+    double rph = 0.5 * (3.0 + sqrt(9.0 - 8.0 * q * q));
+    return rph * rph / sqrt(rph * rph - 2.0 * rph + q * q);
+}
+
+static void test_rn_interior(void **state)
+{
+    double worst = 0.0;
+    (void)state;
+    check_edges(0.8, 1.2, rn_bc(0.8), &worst);
+    check_edges(0.8, 0.6, rn_bc(0.8), &worst);
+    assert_true(worst < 1e-3);
+}
+
+/* phi(r1) - phi(r0) = int_r0^r1 L dr / sqrt(E^2 r^4 - Delta L^2) (R(r) of
+ * the equatorial ray), 4-point Gauss-Legendre on 4000 equal pieces (the
+ * integrand is smooth: no turning point on the way out, and Delta = 0 is
+ * nothing special). */
+static double rn_phi(double E, double L, double q, double r0, double r1)
+{
+    static const double x4[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                                 0.8611363115940526};
+    static const double w4[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                                 0.3478548451374538};
+    double sum = 0.0, h = (r1 - r0) / 4000.0;
+    int i, j;
+    for (i = 0; i < 4000; i++)
+        for (j = 0; j < 4; j++) {
+            double r = r0 + h * (i + 0.5 + 0.5 * x4[j]);
+            double del = r * r - 2.0 * r + q * q;
+            sum += 0.5 * h * w4[j] * L / sqrt(E * E * r * r * r * r - del * L * L);
+        }
+    return sum;
+}
+
+static void test_rn_ray_path(void **state)
+{
+    cr_frame f;
+    cr_path path;
+    static double pts[4000 * CR_PN];
+    const double q = 0.8, r0 = 1.0, psi = 40.0 * DEG;
+    double n[3], E, L, worst = 0.0, vr;
+    cr_pixel px;
+    int i, checked = 0, inside = 0;
+    (void)state;
+    fall_frame(&f, 0.0, q, r0, 90.0 * DEG, 101, 101, 1e-11);
+    f.observer.projection = CR_PROJ_RECTILINEAR;
+    cr_frame_prepare(&f);
+    /* the camera's local direction: outward e_r cos(psi) + e_ph sin(psi) */
+    n[0] = cos(psi);
+    n[1] = 0.0;
+    n[2] = sin(psi);
+    {
+        cr_geo g;
+        double yb[CR_NY];
+        cr_ray ray;
+        cr_camera_ray(&f, n, &g, yb);
+        cr_ray_from_bl(&f, &g, yb, &ray);
+        path.pts = pts;
+        path.cap = 4000;
+        path.sub = 8;
+        ray.path = &path;
+        px = cr_trace_loop(&f, &ray);
+    }
+    assert_int_equal(px.outcome, CR_OUT_SKY);
+    /* independent constants: the free-fall frame of observer.h written here */
+    vr = sqrt(2.0 / r0 - q * q / (r0 * r0));
+    E = 1.0 + cos(psi) * vr;
+    L = sin(psi) * r0;
+    for (i = 1; i < path.n && i < path.cap; i++) {
+        const double *p = pts + i * CR_PN;
+        double want = rn_phi(E, L, q, r0, p[CR_P_R]);
+        worst = fmax(worst, fabs(p[CR_P_PH] - want));
+        checked++;
+        inside += p[CR_P_R] < cr_metric_r_plus(&f.metric);
+    }
+    printf("RN ray from r = %g through r+ = %g: %d path points (%d inside), worst |dphi| = "
+           "%.2e rad\n",
+           r0, cr_metric_r_plus(&f.metric), checked, inside, worst);
+    assert_true(inside >= 4 && checked > inside + 4);
+    assert_true(worst < 1e-8);
+}
+
+/* ---- 5. continuity across r+ --------------------------------------------- */
+
+static void test_continuity(void **state)
+{
+    cr_frame fo, fi;
+    const int w = 41;
+    int i, j, same = 0, total = 0, disc = 0;
+    double worst_r = 0.0, worst_p = 0.0, rp;
+    (void)state;
+    {
+        cr_metric mt = {1.0, 0.6, 0.3};
+        rp = cr_metric_r_plus(&mt);
+    }
+    fall_frame(&fo, 0.6, 0.3, rp * (1.0 + 1e-6), 60.0 * DEG, w, w, 1e-9);
+    fall_frame(&fi, 0.6, 0.3, rp * (1.0 - 1e-6), 60.0 * DEG, w, w, 1e-9);
+    assert_false(fo.obs_inside);
+    assert_true(fi.obs_inside);
+    fo.disc.enabled = fi.disc.enabled = 1;
+    fo.disc.r_in = fi.disc.r_in = 3.0;
+    fo.disc.r_out = fi.disc.r_out = 15.0;
+    fo.disc.r_hit_in = fi.disc.r_hit_in = 3.0;
+    fo.disc.n_radial = fi.disc.n_radial = 2;
+    fo.disc.n_sectors = fi.disc.n_sectors = 8;
+    for (j = 0; j < w; j++)
+        for (i = 0; i < w; i++) {
+            cr_pixel po, pi;
+            int co, ci;
+            if (!cr_camera_in_image(&fo, i, j))
+                continue;
+            po = cr_trace_point(&fo, i, j);
+            pi = cr_trace_point(&fi, i, j);
+            /* the boundary V = 0 is "horizon" from outside, "other side" from
+             * inside (ray.h): one class */
+            co = po.outcome == CR_OUT_OTHER_SIDE ? CR_OUT_HORIZON : po.outcome;
+            ci = pi.outcome == CR_OUT_OTHER_SIDE ? CR_OUT_HORIZON : pi.outcome;
+            total++;
+            same += co == ci;
+            if (co == CR_OUT_DISC && ci == CR_OUT_DISC) {
+                double dp = fabs(po.hit_phi - pi.hit_phi);
+                worst_r = fmax(worst_r, fabs(po.hit_r - pi.hit_r) / po.hit_r);
+                worst_p = fmax(worst_p, fmin(dp, CR_TWO_PI - dp));
+                disc++;
+            }
+        }
+    printf("continuity at r+ (1 -+ 1e-6): %d of %d pixels in the same class, %d on the disc "
+           "in both: worst relative change of the hit radius %.2e, of its azimuth %.2e rad\n",
+           same, total, disc, worst_r, worst_p);
+    assert_true(same >= 0.99 * total);
+    assert_true(disc > total / 20);
+    assert_true(worst_r < 1e-3 && worst_p < 1e-3);
+}
+
+/* ---- 6. the frames ------------------------------------------------------- */
+
+static void test_freefall_frame(void **state)
+{
+    cr_metric mt = {1.0, 0.7, 0.4};
+    cr_observer o;
+    double e[4][4], low[4][2], z[4][4], v[3], b[4][4], g[4][4];
+    int i, j, k;
+    (void)state;
+    memset(&o, 0, sizeof o);
+    o.r = 3.0;
+    o.theta = 1.0;
+    o.motion = CR_MOTION_INFALL;
+    cr_freefall_tetrad(&mt, 3.0, 1.0, 0, e, low);
+    cr_zamo_tetrad(&mt, 3.0, 1.0, 0, z, NULL, NULL, NULL);
+    cr_observer_zamo_velocity(&mt, &o, 0, v);
+    cr_boost_tetrad(z, v, b);
+    for (i = 0; i < 4; i++)
+        for (k = 0; k < 4; k++)
+            assert_true(fabs(e[i][k] - b[i][k]) < 1e-12 * (1.0 + fabs(b[i][k])));
+    /* orthonormal inside, and the covariant legs are g e */
+    {
+        double r = 0.5 * (cr_metric_r_plus(&mt) + cr_metric_r_minus(&mt));
+        cr_freefall_tetrad(&mt, r, 1.0, 0, e, low);
+        cr_test_metric4(&mt, r, 1.0, g);
+        for (i = 0; i < 4; i++) {
+            for (j = 0; j < 4; j++) {
+                double d = cr_test_dot(g, e[i], e[j]);
+                double want = i == j ? (i == 0 ? -1.0 : 1.0) : 0.0;
+                assert_true(fabs(d - want) < 1e-12);
+            }
+            for (k = 0; k < 2; k++) {
+                int mu = k == 0 ? 0 : 3, nu;
+                double s = 0.0;
+                for (nu = 0; nu < 4; nu++)
+                    s += g[mu][nu] * e[i][nu];
+                assert_true(fabs(s - low[i][k]) < 1e-12);
+            }
+        }
+    }
+}
+
+/* ---- bad input ----------------------------------------------------------- */
+
+static void expect_refused(const char *text, const char *n1, const char *n2)
+{
+    cr_scene s;
+    cr_frame f;
+    cr_err e;
+    int rc;
+    e.msg[0] = '\0';
+    assert_int_equal(cr_scene_load_string(text, strlen(text), "scene.yml", &s, &e), 0);
+    rc = cr_scene_frame(&s, 0, 1, 40, 20, NULL, &f, NULL, &e);
+    cr_scene_free(&s);
+    if (rc == 0)
+        fail_msg("accepted:\n%s", text);
+    if (!strstr(e.msg, n1) || (n2 && !strstr(e.msg, n2)))
+        fail_msg("message \"%s\" lacks \"%s\" / \"%s\"", e.msg, n1, n2 ? n2 : "");
+}
+
+static void test_refused(void **state)
+{
+    cr_scene s;
+    cr_frame f;
+    cr_err e;
+    const char *ok = "metric: {m: 1, a: 0.6, q: 0.3}\n"
+                     "observer: {r: 1.2, theta: 90, phi: 0, hfov: 90, motion: infall}\n";
+    (void)state;
+    expect_refused("metric: {m: 1, a: 0, q: 0}\nobserver: {r: 1, theta: 90, phi: 0, hfov: 90}\n",
+                   "observer.r = 1", "stay at rest");
+    expect_refused("metric: {m: 1, a: 0, q: 0}\n"
+                   "observer: {r: 2, theta: 90, phi: 0, hfov: 90, motion: infall}\n",
+                   "observer.r", "on the event horizon");
+    expect_refused("metric: {m: 1, a: 0, q: 0.8}\n"
+                   "observer: {r: 0.3, theta: 90, phi: 0, hfov: 90, motion: infall}\n",
+                   "observer.r = 0.3", "inside the inner horizon r- = 0.4");
+    expect_refused("metric: {m: 1, a: 0, q: 0.8}\n"
+                   "observer: {r: 0.4, theta: 90, phi: 0, hfov: 90, motion: infall}\n",
+                   "observer.r = 0.4", "on the inner horizon");
+    expect_refused("metric: {m: 1, a: 0.6, q: 0}\n"
+                   "observer: {r: 1.2, theta: 90, phi: 0, hfov: 90, motion: zamo}\n",
+                   "observer.motion = zamo", "inside the event horizon");
+    expect_refused("metric: {m: 1, a: 0.6, q: 0}\n"
+                   "observer: {r: 1.2, theta: 90, phi: 0, hfov: 90, motion: orbit}\n",
+                   "observer.motion = orbit", "inside the event horizon");
+    expect_refused("metric: {m: 1, a: 0, q: 0}\n"
+                   "observer: {r: 0, theta: 90, phi: 0, hfov: 90, motion: infall}\n",
+                   "observer.r = 0", "singularity");
+    expect_refused("metric: {m: 1, a: 1, q: 0}\n"
+                   "observer: {r: 0.5, theta: 90, phi: 0, hfov: 90, motion: infall}\n",
+                   "observer.r = 0.5", "extremal");
+    expect_refused("metric: {m: 1, a: 0, q: 0}\n"
+                   "observer: {r: 1, theta: 90, phi: 0, hfov: 90, motion: [0.6, 0, 0.8]}\n",
+                   "observer.motion", "below 1");
+    /* rk4 cannot cross */
+    {
+        cr_trace_settings ts = cr_trace_defaults();
+        ts.integrator = CR_INTEG_RK4;
+        assert_int_equal(cr_scene_load_string(ok, strlen(ok), "scene.yml", &s, &e), 0);
+        assert_int_not_equal(cr_scene_frame(&s, 0, 1, 40, 20, &ts, &f, NULL, &e), 0);
+        assert_non_null(strstr(e.msg, "raytracer.integrator = rk4"));
+        assert_int_equal(cr_scene_frame(&s, 0, 1, 40, 20, NULL, &f, NULL, &e), 0);
+        assert_true(f.obs_inside);
+        cr_scene_free(&s);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ingoing_rhs_vs_bl),   cmocka_unit_test(test_freefall_frame),
+        cmocka_unit_test(test_null_across_horizon), cmocka_unit_test(test_schwarzschild_interior),
+        cmocka_unit_test(test_rn_interior),         cmocka_unit_test(test_rn_ray_path),
+        cmocka_unit_test(test_continuity),          cmocka_unit_test(test_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
