@@ -41,6 +41,13 @@
  * 6. The two frames agree: the free-fall tetrad at r = 3 M equals the
  *    boosted-ZAMO infall tetrad of observer.h to 1e-12, and is orthonormal
  *    inside (r between the horizons) to 1e-12.
+ * 7. The shift of sky light seen from inside (Schwarzschild, r = 1 and
+ *    r+ (1 - 1e-6)): 1/E with E = 1 + cos(psi) sqrt(2M/r), to 1e-9; the plunge
+ *    animation [infall, r0, r1] against r(tau) in closed form (Schwarzschild)
+ *    and the BL phi of a Kerr plunge against a quadrature of u^phi/|u^r|.
+ * 8. Refused: static, zamo and orbit inside r+, an observer on r+ or r-,
+ *    inside r-, at r = 0, inside an extremal hole, |v| >= 1 inside, rk4
+ *    inside; each message names the key.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -521,6 +528,83 @@ static void test_freefall_frame(void **state)
     }
 }
 
+/* ---- 7. the sky's shift from inside, and the plunge's worldline ---------- */
+
+/* The frequency ratio of sky light (a static source at infinity) seen by a
+ * Schwarzschild free-faller inside r+: g = 1/E, E = 1 + cos(psi) sqrt(2M/r),
+ * along the centre row, at r = 1 and just inside r+ (2 (1 - 1e-6)), to 1e-9
+ * relative. */
+static void test_inside_sky_shift(void **state)
+{
+    const double rs[2] = {1.0, 2.0 * (1.0 - 1e-6)};
+    int ri, x, n = 0;
+    double worst = 0.0;
+    (void)state;
+    for (ri = 0; ri < 2; ri++) {
+        cr_frame f;
+        const int w = 181;
+        fall_frame(&f, 0.0, 0.0, rs[ri], 90.0 * DEG, w, 3, 1e-10);
+        for (x = 0; x < w; x += 3) {
+            cr_pixel p = cr_trace_point(&f, x, 1.0);
+            double al = (2.0 * (x + 0.5) / w - 1.0) * CR_PI, psi = CR_PI - fabs(al);
+            double want = 1.0 / (1.0 + cos(psi) * sqrt(2.0 / rs[ri]));
+            if (p.outcome != CR_OUT_SKY)
+                continue;
+            worst = fmax(worst, fabs(p.redshift - want) / want);
+            n++;
+        }
+    }
+    printf("sky shift from inside: %d pixels, worst relative error %.2e\n", n, worst);
+    assert_true(n > 50);
+    assert_true(worst < 1e-9);
+}
+
+/* observer.r = [infall, r0, r1]: frame k of n at proper time k/(n-1) of the
+ * way. Schwarzschild: r(tau) = (r0^1.5 - 1.5 sqrt(2) tau)^(2/3) (M = 1), to
+ * 1e-9 relative. Kerr a = 0.9 on the equator: the BL phi of the frame at
+ * r = 3 against int_3^10 a sqrt(2r) / (Delta sqrt(r^2 + a^2)) dr (u^phi / |u^r|
+ * of the infall, Simpson with 20000 intervals), to 1e-9 rad. */
+static void test_plunge_worldline(void **state)
+{
+    const char *sch = "metric: {m: 1, a: 0, q: 0}\n"
+                      "observer: {r: [infall, 12, 0.5], theta: 90, phi: 0, hfov: 90, "
+                      "motion: infall}\n";
+    const char *kerr = "metric: {m: 1, a: 0.9, q: 0}\n"
+                       "observer: {r: [infall, 10, 3], theta: 90, phi: 0, hfov: 90, "
+                       "motion: infall}\n";
+    cr_scene s;
+    cr_frame f;
+    cr_err e;
+    double tau_total, worst = 0.0, want, sum = 0.0, h, a = 0.9;
+    int k, i;
+    (void)state;
+    assert_int_equal(cr_scene_load_string(sch, strlen(sch), "scene.yml", &s, &e), 0);
+    tau_total = (pow(12.0, 1.5) - pow(0.5, 1.5)) / (1.5 * sqrt(2.0));
+    for (k = 0; k < 7; k++) {
+        double tau = tau_total * k / 6.0;
+        assert_int_equal(cr_scene_frame(&s, k, 7, 20, 20, NULL, &f, NULL, &e), 0);
+        want = pow(pow(12.0, 1.5) - 1.5 * sqrt(2.0) * tau, 2.0 / 3.0);
+        worst = fmax(worst, fabs(f.observer.r - want) / want);
+        assert_true(f.obs_inside == (want < 2.0));
+    }
+    cr_scene_free(&s);
+    printf("plunge r(tau): worst relative error %.2e\n", worst);
+    assert_true(worst < 1e-9);
+    assert_int_equal(cr_scene_load_string(kerr, strlen(kerr), "scene.yml", &s, &e), 0);
+    assert_int_equal(cr_scene_frame(&s, 2, 3, 20, 20, NULL, &f, NULL, &e), 0);
+    cr_scene_free(&s);
+    assert_true(fabs(f.observer.r - 3.0) < 1e-12);
+    h = 7.0 / 20000;
+    for (i = 0; i <= 20000; i++) {
+        double r = 3.0 + i * h, del = r * r - 2.0 * r + a * a;
+        double v = a * sqrt(2.0 * r) / (del * sqrt(r * r + a * a));
+        sum += v * (i == 0 || i == 20000 ? 1.0 : (i % 2 ? 4.0 : 2.0));
+    }
+    sum *= h / 3.0;
+    printf("Kerr plunge phi at r = 3: %.12f (quadrature %.12f)\n", f.observer.phi, sum);
+    assert_true(fabs(f.observer.phi - sum) < 1e-9);
+}
+
 /* ---- bad input ----------------------------------------------------------- */
 
 static void expect_refused(const char *text, const char *n1, const char *n2)
@@ -592,7 +676,8 @@ int main(void)
         cmocka_unit_test(test_ingoing_rhs_vs_bl),   cmocka_unit_test(test_freefall_frame),
         cmocka_unit_test(test_null_across_horizon), cmocka_unit_test(test_schwarzschild_interior),
         cmocka_unit_test(test_rn_interior),         cmocka_unit_test(test_rn_ray_path),
-        cmocka_unit_test(test_continuity),          cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_continuity),          cmocka_unit_test(test_inside_sky_shift),
+        cmocka_unit_test(test_plunge_worldline),    cmocka_unit_test(test_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -145,6 +145,36 @@ CR_HD static inline void cr_freefall_tetrad(const cr_metric *mt, double r, doubl
     }
 }
 
+/* The worldline of the infall motion (E = 1, L = 0, Carter constant 0, so
+ * theta stays fixed), from BL radius r0 down to r (r0 >= r, 2Mr - Q^2 > 0
+ * on the way, through r+ if need be), with W = 2Mr - Q^2:
+ *   proper time  tau = int_r^r0 Sigma / sqrt((r^2 + a^2) W) dr   (u^r = -sqrt((r^2+a^2) W)/Sigma),
+ *   ingoing azimuth  phi~(r0) - phi~(r) = int_r^r0 a / (sqrt(r^2 + a^2) (sqrt(W) + sqrt(r^2 + a^2))) dr
+ * (d phi~/dr = (u^phi + (a/Delta) u^r)/u^r, the 1/Delta cancelled: regular at
+ * r+). Gauss-Legendre, 4 points on each of n pieces (n = 2000: the
+ * integrands are smooth, relative error ~1e-14 for r >= 1e-3 M). Host code
+ * (scene evaluation of an animated plunge). */
+CR_HD static inline void cr_infall_worldline(const cr_metric *mt, double th, double r0, double r,
+                                             double *tau, double *dphi)
+{
+    const double x4[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                          0.8611363115940526};
+    const double w4[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                          0.3478548451374538};
+    const int n = 2000;
+    double h = (r0 - r) / n, c2 = cos(th) * cos(th), a2 = mt->a * mt->a, st = 0.0, sp = 0.0;
+    int i, j;
+    for (i = 0; i < n; i++)
+        for (j = 0; j < 4; j++) {
+            double x = r + h * (i + 0.5 + 0.5 * x4[j]);
+            double ra = sqrt(x * x + a2), W = sqrt(fmax(2.0 * mt->m * x - mt->q * mt->q, 0.0));
+            st += w4[j] * (x * x + a2 * c2) / (ra * W);
+            sp += w4[j] * mt->a / (ra * (W + ra));
+        }
+    *tau = 0.5 * h * st;
+    *dphi = 0.5 * h * sp;
+}
+
 /* The tetrad e (rows e_0, e_1, e_2, e_3, BL components) boosted by the
  * 3-velocity v = v^i e_i (|v| < 1), written to out (may not alias e). */
 CR_HD static inline void cr_boost_tetrad(const double e[4][4], const double v[3],

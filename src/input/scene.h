@@ -46,6 +46,10 @@ typedef struct cr_scene {
     cr_anim obs_r, obs_theta, obs_phi; /* required */
     int obs_at_infinity;               /* r: inf (not animatable): obs_r = +inf, the
                                           observer at infinity (Bardeen's image plane) */
+    int obs_r_infall;                  /* r: [infall, r_start, r_end] (obs_r = start,
+                                          end): frame k at proper time k/(n-1) of the
+                                          way along the free fall of motion infall,
+                                          phi following it (scene_eval.c) */
     cr_anim roll, pitch, yaw;          /* optional, default 0; at infinity
                                           pitch = yaw = 0 (it can only roll) */
     cr_anim hfov;                      /* required for a finite r; unused at infinity */

@@ -255,6 +255,46 @@ static int frame_inside(const cr_scene *s, int k, int n, const cr_metric *mt,
     return frame_motion(s, k, n, mt, o, err);
 }
 
+/* The observer of a plunge, observer.r = [infall, r_start, r_end]: frame k
+ * of n at the fraction k/(n-1) of the proper time from r_start to r_end
+ * along the infall worldline (observer.h, cr_infall_worldline) at the
+ * frame's theta, r found by bisection on it, and phi = observer.phi at
+ * r_start moved as the free-faller's BL phi is (phi~ along the worldline
+ * minus F(r) of metric.h; unchanged for a = 0). A frame within 1e-8 r+ of a
+ * horizon is moved 2e-8 r+ off it (inside r+, outside r-: the horizons
+ * themselves are refused). Returns -1 when 2Mr - Q^2 <= 0 on the way. */
+static int plunge_position(const cr_scene *s, int k, int n, const cr_metric *mt,
+                           cr_observer *o)
+{
+    double r0 = s->obs_r.a, r1 = s->obs_r.b, total, d, lo = r1, hi = r0, want, F0, F1, dph;
+    double rp = cr_metric_r_plus(mt), rm = cr_metric_r_minus(mt);
+    int it;
+    if (!(2.0 * mt->m * r1 - mt->q * mt->q > 0.0))
+        return -1;
+    cr_infall_worldline(mt, o->theta, r0, r1, &total, &d);
+    want = n > 1 ? total * (double)k / (double)(n - 1) : 0.0;
+    for (it = 0; it < 100 && k > 0; it++) {
+        double mid = 0.5 * (lo + hi), t;
+        cr_infall_worldline(mt, o->theta, r0, mid, &t, &d);
+        if (t > want)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    o->r = k == 0 ? r0 : (k == n - 1 ? r1 : 0.5 * (lo + hi));
+    if (fabs(o->r - rp) < 1e-8 * rp)
+        o->r = rp * (1.0 - 2e-8);
+    else if (rm > 0.0 && fabs(o->r - rm) < 1e-8 * rp)
+        o->r = rm + 2e-8 * rp;
+    if (mt->a != 0.0 && rp > rm) {
+        cr_infall_worldline(mt, o->theta, r0, o->r, &d, &dph);
+        cr_metric_ingoing_shift(mt, r0, &F0, NULL);
+        cr_metric_ingoing_shift(mt, o->r, &F1, NULL);
+        o->phi += -dph - (F1 - F0);
+    }
+    return 0;
+}
+
 static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, int width,
                           int height, cr_observer *o, cr_err *err)
 {
@@ -272,6 +312,12 @@ static int frame_observer(const cr_scene *s, int k, int n, const cr_metric *mt, 
         return frame_fail(err, s, k, n, "observer: a value is not a finite number");
     o->motion = s->obs_motion;
     o->projection = s->obs_projection;
+    if (s->obs_r_infall && plunge_position(s, k, n, mt, o))
+        return frame_fail(err, s, k, n,
+                          "observer.r = [infall, %g, %g]: the free fall from r = %g to %g "
+                          "needs 2 M r - Q^2 > 0 all the way (it bounces at r = Q^2 / 2M = %g)",
+                          s->obs_r.a, s->obs_r.b, s->obs_r.a, s->obs_r.b,
+                          mt->q * mt->q / (2.0 * mt->m));
     o->retrograde = s->obs_retrograde;
     if (o->theta < -THETA_TOL || o->theta > CR_PI + THETA_TOL)
         return frame_fail(err, s, k, n, "observer.theta = %g deg lies outside 0 to 180 deg",

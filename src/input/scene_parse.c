@@ -332,7 +332,30 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
         if (!f[HFOV].value && s->obs_projection != CR_PROJ_EQUIRECT)
             return cr_yaml_fail_at(y, where, p, err, "missing required key 'hfov'");
     }
-    if ((!inf && field_anim(y, &f[R], p, V_NUMBER, 0.0, &s->obs_r, err)) ||
+    if (!inf && f[R].value && f[R].value->type == YAML_SEQUENCE_NODE &&
+        f[R].value->data.sequence.items.top > f[R].value->data.sequence.items.start &&
+        cr_yaml_scalar_is(cr_yaml_node(y, f[R].value->data.sequence.items.start[0]), "infall")) {
+        /* the plunge: [infall, r_start, r_end] in proper time */
+        yaml_node_t *it[3];
+        if (cr_yaml_list(y, f[R].value, "observer.r", 3,
+                         "a plunge [infall, r_start, r_end]", it, NULL, err) ||
+            get_value(y, it[1], "observer.r[1]", V_NUMBER, &s->obs_r.a, err) ||
+            get_value(y, it[2], "observer.r[2]", V_NUMBER, &s->obs_r.b, err))
+            return -1;
+        if (s->obs_motion != CR_MOTION_INFALL)
+            return cr_yaml_fail(y, f[R].value, "observer.r", err,
+                                "[infall, r_start, r_end] follows the free fall of motion: "
+                                "infall; set observer.motion: infall");
+        if (!(s->obs_r.a > s->obs_r.b && s->obs_r.b > 0.0 && isfinite(s->obs_r.a)))
+            return cr_yaml_fail(y, f[R].value, "observer.r", err,
+                                "[infall, %g, %g]: a plunge falls inward, from a finite r_start "
+                                "down to r_end, with r_start > r_end > 0",
+                                s->obs_r.a, s->obs_r.b);
+        s->obs_r_infall = 1;
+    } else if (!inf && field_anim(y, &f[R], p, V_NUMBER, 0.0, &s->obs_r, err)) {
+        return -1;
+    }
+    if (
         field_anim(y, &f[THETA], p, V_ANGLE, 0.0, &s->obs_theta, err) ||
         field_anim(y, &f[PHI], p, V_ANGLE, 0.0, &s->obs_phi, err) ||
         field_anim(y, &f[ROLL], p, V_ANGLE, 0.0, &s->roll, err) ||
