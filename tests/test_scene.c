@@ -605,7 +605,7 @@ static void test_frame_rejects_observer(void **state)
     (void)state;
     /* at and inside the horizon r+ = 2M */
     frame_rejects(SCHW, "r: 2, theta: 90, phi: 0, hfov: 70", NULL, 0, 1, 64, 48,
-                  "observer.r = 2 is at or inside the event horizon");
+                  "observer.r = 2 is on the event horizon");
     frame_rejects(SCHW, "r: 1, theta: 90, phi: 0, hfov: 70", NULL, 0, 1, 64, 48,
                   "event horizon");
     frame_rejects(SCHW, "r: -5, theta: 90, phi: 0, hfov: 70", NULL, 0, 1, 64, 48,
@@ -1232,7 +1232,7 @@ static void test_errors_syntax_and_shape(void **state)
         /* keys */
         {BASE "foo: 1\n", "scene.yml:10:1: unknown key 'foo' at the top level",
          "(expected one of: metric, observer, accretion, skymap, sphere, spheres, sky_color, "
-         "horizon_color, error_color, limit_color, redshift_sky)"},
+         "horizon_color, error_color, limit_color, redshift_sky, other_side_color)"},
         {BASE "observer: {}\n", "scene.yml:10:1: observer: ",
          "duplicate key 'observer' (first given at line 5, column 1)"},
         {"metric: {m: 1, a: 0, q: 0, m: 2}\n" OBSL, "scene.yml:1:28: metric.m: ", "duplicate key 'm'"},

@@ -148,6 +148,9 @@ CR_HD static inline void cr_particle_coeffs(cr_mino *c, const cr_metric *mt, dou
     c->d1 = -2.0 * M;
     c->d2 = a * a + Q2;
     c->d_min = 1.0 + w_stop * (c->d1 + c->d2 * w_stop);
+    c->chart = CR_CHART_BL; /* the ingoing chart (mino.h) is for light only */
+    c->K = C;
+    c->pa = 0.0;
     /* the largest |dn/dlambda|^2 = K + L^2 + a^2 (E^2 - 1) u^2 over u */
     om2 = c->kap + (c->a2E2 > 0.0 ? c->a2E2 : 0.0);
     c->omega = sqrt(om2 > 0.0 ? om2 : 0.0);

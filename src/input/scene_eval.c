@@ -222,8 +222,8 @@ static int frame_inside(const cr_scene *s, int k, int n, const cr_metric *mt,
                           o->r, rp);
     if (!(o->r > 0.0))
         return frame_fail(err, s, k, n,
-                          "observer.r = %g: an observer inside the horizon needs 0 < r < r+ = "
-                          "%g (r = 0 is the singularity)",
+                          "observer.r = %g: inside the event horizon an observer needs "
+                          "0 < r < r+ = %g (r = 0 is the singularity)",
                           o->r, rp);
     if (o->r <= rm * (1.0 + HORIZON_GAP_TOL))
         return frame_fail(err, s, k, n,

@@ -259,9 +259,9 @@ scene "no horizon (a > M)" 1 "a^2 + q^2 = 4 exceeds m^2 = 1, so there is no even
 scene "no horizon (a^2 + Q^2 > M^2)" 1 "so there is no event horizon" $'metric: {m: 1, a: 0.8, q: 0.7}\n'"$OBS"
 scene "zero mass" 1 "metric.m = 0: the mass M must be positive" $'metric: {m: 0, a: 0, q: 0}\n'"$OBS"
 scene "negative mass" 1 "metric.m = -1: the mass M must be positive" $'metric: {m: -1, a: 0, q: 0}\n'"$OBS"
-scene "observer inside the horizon" 1 "observer.r = 1.5 is at or inside the event horizon r+ = 2" \
+scene "observer inside the horizon" 1 "observer.r = 1.5 is inside the event horizon r+ = 2, where no observer can stay at rest" \
     "$MET"$'observer: {r: 1.5, theta: 90, phi: 0, hfov: 60}\n'
-scene "observer on the horizon" 1 "observer.r = 2 is at or inside the event horizon" \
+scene "observer on the horizon" 1 "observer.r = 2 is on the event horizon r+ = 2" \
     "$MET"$'observer: {r: 2, theta: 90, phi: 0, hfov: 60}\n'
 scene "observer inside the ergosphere" 1 "is inside the ergosphere (r_E+ = 2): no static observer exists there" \
     $'metric: {m: 1, a: 0.9, q: 0}\nobserver: {r: 1.9, theta: 90, phi: 0, hfov: 60}\n'

@@ -102,7 +102,15 @@ static void check_frame(const cr_frame *f, int n_spheres)
     CHECK(f->tolerance > 0.0 && isfinite(f->tolerance));
     CHECK(f->sky_boundary >= 0.0 && isfinite(f->sky_boundary));
     CHECK(isfinite(f->r_stop));
-    CHECK(f->obs_sqrt_mgtt > 0.0 && isfinite(f->obs_sqrt_mgtt));
+    /* 1/u^t: negative between the horizons, where BL t runs backward along
+     * the free fall (camera.h), and only there, under mino */
+    CHECK((f->obs_inside ? f->obs_sqrt_mgtt < 0.0 : f->obs_sqrt_mgtt > 0.0) &&
+          isfinite(f->obs_sqrt_mgtt));
+    if (f->obs_inside)
+        CHECK(f->integrator == CR_INTEG_MINO && f->observer.r > cr_metric_r_minus(&f->metric) &&
+              f->observer.r < cr_metric_r_plus(&f->metric) &&
+              (f->observer.motion == CR_MOTION_INFALL ||
+               f->observer.motion == CR_MOTION_VELOCITY));
     CHECK(isfinite(f->tan_half_h) && isfinite(f->tan_half_v));
     for (i = 0; i < 9; i++)
         CHECK(isfinite(f->cam[i / 3][i % 3]));
