@@ -16,6 +16,10 @@
 #   2. On the GPU machine, ONE device-tool call:
 #        run(command="tools/gpu-check.sh run", carry=["build-gpu-check"],
 #            timeout_s=300)
+#      or, for the checks alone (a, b and c below: the kernel's registers,
+#      ctest -L gpu and the CLI on CPU and GPU, about 15 s; no benchmarks):
+#        run(command="tools/gpu-check.sh quick", carry=["build-gpu-check"],
+#            timeout_s=120)
 #      It writes under $OUT (at most 8 files come back): summary.txt (the
 #      short table, also printed last), ctest.log, bench.md (every benchmark
 #      table) and gpu-check.tar.gz (every log, CSV and info.txt). On an H200
@@ -202,6 +206,13 @@ cmd_run() {
     stage ctest 150 ctest --test-dir "$bdir/default" -L gpu --output-on-failure -V
     cp "$work/ctest.log" "$OUT/ctest.log" 2>/dev/null
     stage cli-compare 60 cli_compare
+    # quick: only the checks above (registers, test_backends, the CLI on CPU
+    # and GPU), about 15 s; the benchmarks below are skipped
+    [ -n "${quick:-}" ] || cmd_bench
+    cmd_summary
+}
+
+cmd_bench() {
     stage split 60 gpu_split
     stage mino-rk4-mino 60 bench_run default mino --scenes "kerr-disc kerrz-disc" --sizes 1024 \
         --runs 3 --config "$root/bench/scenes/mino.yml"
@@ -219,7 +230,9 @@ cmd_run() {
         [ -x "$bdir/$v/curray" ] && stage "bench-$v" 60 bench_run "$v" "$v" --sizes 1024 --runs 3
     done
     stage cli-overlap 60 cli_overlap
+}
 
+cmd_summary() {
     for f in "$work"/bench-*.log "$work"/mino-rk4-*.log "$work"/tol-*.log; do
         [ -f "$f" ] && { echo "### $(basename "$f" .log)"; sed -n '/^## curray benchmark/,$p' "$f"; echo; }
     done >"$OUT/bench.md"
@@ -255,8 +268,9 @@ cmd_run() {
 case ${1:-} in
 build) cmd_build ;;
 run) cmd_run ;;
+quick) quick=1 cmd_run ;;
 *)
-    sed -n '2,40p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,46p' "$0" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac
