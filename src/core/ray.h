@@ -167,6 +167,14 @@ CR_HD static inline int cr_ray_starts_at_infinity(int integrator)
     return integrator == CR_INTEG_MINO;
 }
 
+/* Whether the integrator can follow rays through a horizon (from an
+ * observer inside r+): Mino only (w = 1/r passes r+ smoothly); RK4's BL
+ * state diverges at r+. */
+CR_HD static inline int cr_ray_crosses_horizons(int integrator)
+{
+    return integrator == CR_INTEG_MINO;
+}
+
 /* The state at fraction s in [0, 1] of the current step. */
 CR_HD static inline void cr_ray_state_at(const cr_ray *ray, double s, double *ys)
 {

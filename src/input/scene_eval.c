@@ -14,7 +14,7 @@
 #include "../core/disc.h"   /* cr_disc_keplerian_prepare */
 #include "../core/frame.h"  /* cr_frame_prepare, units of M */
 #include "../core/orbit.h"  /* cr_orbit_*, CR_FLUX_MIN_GAP */
-#include "../core/ray.h"    /* cr_ray_starts_at_infinity */
+#include "../core/ray.h"    /* cr_ray_starts_at_infinity, cr_ray_crosses_horizons */
 #include "../core/sphere.h" /* cr_sphere_prepare */
 #include "names.h"
 
@@ -608,7 +608,7 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
         frame_disc(s, k, n, &f->disc, err))
         return -1;
     if (!s->obs_at_infinity && f->observer.r < cr_metric_r_plus(&f->metric) &&
-        f->integrator == CR_INTEG_RK4)
+        !cr_ray_crosses_horizons(f->integrator))
         return frame_fail(err, s, k, n,
                           "raytracer.integrator = rk4 cannot follow rays through a horizon "
                           "(observer.r = %g is inside r+ = %g); use mino (the default)",
