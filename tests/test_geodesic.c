@@ -66,6 +66,10 @@ static void start_ray(cr_frame *f, double m, double a, double q, double r, doubl
 {
     double n[3], len = sqrt(nx * nx + ny * ny + nz * nz);
     cr_test_empty_frame(f, m, a, q, r, th);
+    /* integrate() stops outgoing rays at r_max: beyond the start here (with
+     * a plain sky the frame's own r_max is the empty scene's 6 M) */
+    if (f->r_max < r + 1.0)
+        f->r_max = r + 1.0;
     n[0] = nx / len;
     n[1] = ny / len;
     n[2] = nz / len;

@@ -491,7 +491,19 @@ static void test_frame_fields(void **state)
     assert_true(f.tolerance == 1e-6);
     /* prepared */
     assert_near(f.r_stop, cr_metric_r_plus(&f.metric) + 1e-3, 1e-15);
-    assert_true(f.r_max >= 30.0);
+    {
+        /* a plain sky: the scene ends 1 M beyond its farthest object (the
+         * disc, or a sphere's Cartesian extent), not at the observer's 30 M */
+        double rm = f.disc.r_out;
+        int k;
+        for (k = 0; k < f.n_spheres; k++) {
+            const double *c = f.spheres[k].center;
+            rm = fmax(rm, sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + f.spheres[k].radius);
+        }
+        assert_near(f.r_max, fmax(rm + 1.0, 6.0), 1e-12);
+        assert_true(f.r_max < 30.0);
+        assert_near(f.w_sky, 1.0 / f.r_max, 1e-15);
+    }
     assert_true(f.obs_sqrt_mgtt > 0.0);
     assert_near(f.tan_half_h, tan(35.0 * DEG), 1e-14);
     assert_int_equal(f.obs_on_axis, 0);

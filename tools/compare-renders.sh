@@ -228,7 +228,7 @@ render_all() {
 # sides' <entry>.use until it exits.
 prune_cache() {
     local d
-    ls -1dt "$CACHE"/*/ 2>/dev/null | tail -n +$((CACHE_KEEP + 1)) | while IFS= read -r d; do
+    { ls -1dt "$CACHE"/*/ 2>/dev/null || true; } | tail -n +$((CACHE_KEEP + 1)) | while IFS= read -r d; do
         d=${d%/}
         (flock -n 8 || exit 0; rm -rf "$d" "$d.lock" "$d.use") 8>"$d.use"
     done

@@ -50,7 +50,14 @@ CR_HD static inline void cr_sphere_to_units_of_m(cr_sphere *s, double m)
 CR_HD static inline void cr_frame_prepare(cr_frame *f)
 {
     int at_inf = isinf(f->observer.r) && f->observer.r > 0.0;
-    double rm = at_inf ? 0.0 : f->observer.r;
+    /* With a plain sky an outgoing ray beyond every object and every photon
+     * orbit has its outcome (sky), its colour and its frequency ratio (from
+     * E alone, u_em = (1, 0, 0, 0)) settled: the scene ends there, whatever
+     * the observer's distance or the sky boundary. A sky image needs the
+     * direction at the boundary (6.10), so the observer and the boundary
+     * count there. */
+    int plain = !f->sky.rgb;
+    double rm = at_inf || plain ? 0.0 : f->observer.r;
     int k;
     f->r_stop = cr_metric_r_plus(&f->metric) + f->horizon_epsilon;
     f->w_stop = 1.0 / f->r_stop;
@@ -68,7 +75,7 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
     rm += f->metric.m;
     if (rm < CR_MIN_R_MAX_OVER_M * f->metric.m)
         rm = CR_MIN_R_MAX_OVER_M * f->metric.m;
-    if (f->sky_boundary > rm)
+    if (!plain && f->sky_boundary > rm)
         rm = f->sky_boundary;
     f->r_max = at_inf ? INFINITY : rm;
     f->w_sky = (f->sky.rgb && !(f->sky_boundary > 0.0)) ? 0.0 : 1.0 / rm;
