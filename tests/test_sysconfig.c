@@ -158,7 +158,13 @@ static void test_gpus_rule(void **state)
     (void)state;
     /* no gpus section: device 0 */
     load_ok("cpu: {threads: 2}\n", &c);
+    assert_int_equal(c.raytracer.simd, CR_SIMD_AUTO);
     assert_int_equal(c.gpu_enabled[0], 1);
+    load_ok("cpu: {threads: 2, simd: off}\n", &c);
+    assert_int_equal(c.raytracer.simd, CR_SIMD_OFF);
+    load_ok("cpu: {simd: auto}\n", &c);
+    assert_int_equal(c.raytracer.simd, CR_SIMD_AUTO);
+    load_ok("cpu: {threads: 2}\n", &c);
     assert_int_equal(c.gpu_enabled[1], 0);
     /* a section: only the listed enabled ones */
     load_ok("gpus: {1: {enabled: true}}\n", &c);
@@ -253,8 +259,10 @@ static void test_errors(void **state)
         {"cpu:\n  threads: 2.5\n", "config.yml:2:12: cpu.threads: ", "got \"2.5\""},
         {"cpu:\n  threads: 100000\n", "config.yml:2:12: cpu.threads: ", "from 1 to 4096"},
         {"cpu:\n  threads: [1]\n", "config.yml:2:12: cpu.threads: ", "got a list of 1 item"},
+        {"cpu:\n  simd: on\n", "config.yml:2:9: cpu.simd: ", "(expected one of: auto, off)"},
+        {"cpu:\n  simd: 1\n", "config.yml:2:9: cpu.simd: ", "unknown simd"},
         {"cpu:\n  cores: 4\n", "config.yml:2:3: unknown key 'cores' in cpu",
-         "(expected one of: threads)"},
+         "(expected one of: threads, simd)"},
         {"cpu: 4\n", "config.yml:1:6: cpu: ", "expected a mapping of keys, got \"4\""},
         {"raytracer:\n  horizon_epsilon: 0\n", "config.yml:2:20: raytracer.horizon_epsilon: ",
          "expected a positive number, got \"0\""},

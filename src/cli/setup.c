@@ -214,8 +214,9 @@ static int cr_choose_backend(cr_run *run)
         snprintf(run->backend_name, sizeof run->backend_name, "cuda (%d GPU%s)", run->n_workers,
                  run->n_workers > 1 ? "s" : "");
     else
-        snprintf(run->backend_name, sizeof run->backend_name, "cpu (%d thread%s)", run->threads,
-                 run->threads > 1 ? "s" : "");
+        snprintf(run->backend_name, sizeof run->backend_name, "cpu (%d thread%s, %s)",
+                 run->threads, run->threads > 1 ? "s" : "",
+                 cr_cpu_simd_name(cr_cpu_simd_configure(run->cfg.raytracer.simd)));
     return 0;
 }
 

@@ -202,6 +202,15 @@ typedef enum cr_integrator {
     CR_INTEG_COUNT_ = 2
 } cr_integrator;
 
+/* Whether the CPU backend may trace W rays at a time in vector lanes
+ * (cpu.simd; src/render/cpu.h): auto picks the widest the CPU has, off
+ * keeps the scalar path. Both give the same pixels. */
+typedef enum cr_simd_mode {
+    CR_SIMD_AUTO = 0,
+    CR_SIMD_OFF = 1,
+    CR_SIMD_COUNT_ = 2
+} cr_simd_mode;
+
 /* Largest raytracer.samples: samples^2 sub-pixel rays per pixel. */
 #define CR_MAX_SAMPLES 16
 
@@ -237,8 +246,9 @@ typedef struct cr_frame {
 
     /* derived */
     double r_stop;        /* r+ + epsilon */
-    double r_max;         /* scene boundary (6.8, 6.10); INFINITY for the
-                             observer at infinity */
+    double r_max;         /* scene boundary (6.8, 6.10): beyond the objects
+                             (and, with a sky image, the observer and the sky
+                             boundary); INFINITY for the observer at infinity */
     double w_stop;        /* 1 / r_stop (CR_INTEG_MINO) */
     double w_sky;         /* CR_INTEG_MINO: an outgoing ray ends as sky at
                              w = 1/r <= w_sky; 0 (at infinity) when the sky

@@ -59,30 +59,31 @@ enum {
     CR_MN
 };
 
-/* The constants of one ray and the coefficients derived from them. */
-typedef struct cr_mino {
-    double E, L, eta;      /* geodesic.h convention; eta = Carter constant */
-    double a;              /* spin */
-    double c4, c2, c1, c0; /* W(w) = c4 + c3 w + c2 w^2 + c1 w^3 + c0 w^4 */
-    double c3;             /* 0 for light; the r^3 term of R of a massive or
-                              charged particle (particle.h) */
-    double kap;            /* eta + L^2 */
-    double a2E2;           /* a^2 E^2 */
-    double p1, p2;         /* dpr/dtau = a w (p1 + p2 w) / D(w) */
-    double d1, d2;         /* D(w) = 1 + d1 w + d2 w^2 = Delta / r^2 */
-    double d_min;          /* D at the horizon stop: D is clamped to it beyond
-                              the stop, where rays end anyway */
-    double omega;          /* sqrt(eta + L^2 + a^2 E^2) >= |dn/dtau|, floored */
-    /* The chart of pr (cr_mino_rhs): CR_CHART_BL, or CR_CHART_INGOING, where
-     * pr is phi~ - atan2(n_y, n_x) with the ingoing Kerr azimuth
-     * phi~ = phi + F(r) (metric.h), regular through the future horizon. */
-    int chart;
-    double K;  /* eta + (L + a E)^2: R = P^2 - Delta K */
-    double pa; /* w^2 P(1/w) = E + pa w^2 */
-} cr_mino;
-
 /* Charts of the azimuth pr (cr_mino.chart). */
 enum { CR_CHART_BL = 0, CR_CHART_INGOING = 1 };
+
+/* The lane-generic part (mino_lane.h) for one ray, scalar: cr_mino (the
+ * constants of one ray and the coefficients derived from them), cr_mino_W,
+ * cr_mino_Th, cr_mino_ingoing_q, cr_mino_rhs, cr_mino_monitor, cr_dp5 (the
+ * stages of a step), cr_dp5_try, cr_dp5_factor, cr_dp5_control and the
+ * predicates of the ray's ends and counts. */
+#define CR_L double
+#define CR_LM int
+#define CR_LN(x) x
+#define CR_LHD CR_HD
+#define CR_LSEL(m, a, b) ((m) ? (a) : (b))
+#define CR_LABS(x) fabs(x)
+#define CR_LSQRT(x) sqrt(x)
+#define CR_LBC(x) (x)
+#include "mino_lane.h"
+#undef CR_L
+#undef CR_LM
+#undef CR_LN
+#undef CR_LHD
+#undef CR_LSEL
+#undef CR_LABS
+#undef CR_LSQRT
+#undef CR_LBC
 
 /* Fill the coefficients for constants (E, L, eta) on metric mt; w_stop =
  * 1/(r+ + epsilon) is where rays end at the horizon. */
@@ -118,44 +119,8 @@ CR_HD static inline void cr_mino_init(cr_mino *c, const cr_metric *mt, double E,
     c->pa = a * aEL;
 }
 
-/* W(w) = w^4 R(1/w). */
-CR_HD static inline double cr_mino_W(const cr_mino *c, double w)
-{
-    double w2 = w * w;
-    return c->c4 + w * c->c3 + w2 * (c->c2 + w * (c->c1 + w * c->c0));
-}
-
-/* Th(u) = (du/dtau)^2 on the ray. */
-CR_HD static inline double cr_mino_Th(const cr_mino *c, double u)
-{
-    double u2 = u * u;
-    return c->eta - u2 * (c->kap - c->a2E2 + c->a2E2 * u2);
-}
-
-/* Ingoing chart: the rest of d phi~/dtau, and d v/dtau, of the backward ray
- * at state y. With dphi~ = dphi + (a/Delta) dr and dv = dt + ((r^2 + a^2)/Delta) dr,
- * dr/dtau = -(dw/dtau)/w^2, Delta = D/w^2 and Pw = w^2 P = E + pa w^2:
- *   d phi~/dtau - L/sin^2 part = a E - a (Pw + dw)/D,
- *   d v/dtau = -(1 + a^2 w^2) (Pw + dw)/(w^2 D) + a (L + a E sin^2 theta),
- * and on the ray Pw^2 - dw^2 = w^2 D K (from W = Pw^2 - w^2 D K), so
- *   (Pw + dw)/D = w^2 K/(Pw - dw),
- * the form used where |Pw - dw| >= |Pw + dw|: regular at D = 0 for light
- * that crossed the future horizon inward (backward: outward with dw < 0,
- * P > 0). Elsewhere (rays bound for the past boundary, dw -> Pw at D = 0,
- * which ray.h ends before D = 0) the direct form (Pw + dw)/(w^2 D). */
-CR_HD static inline double cr_mino_ingoing_q(const cr_mino *c, const double *y)
-{
-    double w = y[CR_M_W], pw = c->E + c->pa * w * w, dw = y[CR_M_DW];
-    double sum = pw + dw, dif = pw - dw;
-    /* (Pw + dw) / (w^2 D), in whichever form is better conditioned (equal on
-     * the ray): the regular one except where Pw - dw is the smaller (rays
-     * bound for the other side, which end before D = 0; K = 0 radial rays,
-     * where it is 0/0) */
-    if (fabs(dif) >= fabs(sum))
-        return c->K / dif;
-    return sum / (w * w * (1.0 + w * (c->d1 + c->d2 * w)));
-}
-
+/* Ingoing chart: d v/dtau of the backward ray at state y (cr_mino_ingoing_q,
+ * mino_lane.h, has the derivation). */
 CR_HD static inline double cr_mino_ingoing_dv(const cr_mino *c, const double *y)
 {
     double w = y[CR_M_W], nz = y[CR_M_NZ];
@@ -163,41 +128,6 @@ CR_HD static inline double cr_mino_ingoing_dv(const cr_mino *c, const double *y)
     double s2 = n2 > 0.0 ? 1.0 - nz * nz / n2 : 0.0;
     return -(1.0 + c->a * c->a * w * w) * cr_mino_ingoing_q(c, y) +
            c->a * (c->L + c->a * c->E * s2);
-}
-
-/* Right-hand side dy/dtau. */
-CR_HD static inline void cr_mino_rhs(const cr_mino *c, const double *y, double *dy)
-{
-    double w = y[CR_M_W], nz = y[CR_M_NZ];
-    double k = c->kap + 2.0 * c->a2E2 * nz * nz;
-    double D = 1.0 + w * (c->d1 + c->d2 * w);
-    if (D < c->d_min && c->chart == CR_CHART_BL)
-        D = c->d_min;
-    dy[CR_M_W] = y[CR_M_DW];
-    dy[CR_M_DW] = 0.5 * c->c3 + w * (c->c2 + w * (1.5 * c->c1 + 2.0 * c->c0 * w));
-    dy[CR_M_NX] = y[CR_M_DNX];
-    dy[CR_M_NY] = y[CR_M_DNY];
-    dy[CR_M_NZ] = y[CR_M_DNZ];
-    dy[CR_M_DNX] = -k * y[CR_M_NX];
-    dy[CR_M_DNY] = -k * y[CR_M_NY];
-    dy[CR_M_DNZ] = (c->a2E2 - k) * nz;
-    if (c->chart == CR_CHART_INGOING)
-        dy[CR_M_PR] = c->a * (c->E - w * w * cr_mino_ingoing_q(c, y));
-    else
-        dy[CR_M_PR] = c->a * w * (c->p1 + c->p2 * w) / D;
-}
-
-/* The conserved-quantity monitor described at the top of this file. */
-CR_HD static inline double cr_mino_monitor(const cr_mino *c, const double *y)
-{
-    double w = y[CR_M_W], w2 = w * w, dw = y[CR_M_DW];
-    double u = y[CR_M_NZ], u2 = u * u, du = y[CR_M_DNZ];
-    double sr = dw * dw + fabs(c->c4) + fabs(w * c->c3) + w2 * (fabs(c->c2) + fabs(w) * (fabs(c->c1) + fabs(w * c->c0)));
-    double st = du * du + c->omega * c->omega + fabs(c->eta) +
-                u2 * (fabs(c->kap - c->a2E2) + c->a2E2 * u2);
-    double er = sr > 0.0 ? fabs(dw * dw - cr_mino_W(c, w)) / sr : 0.0;
-    double et = st > 0.0 ? fabs(du * du - cr_mino_Th(c, u)) / st : 0.0;
-    return er > et ? er : et;
 }
 
 /* BL position of a state: r (INFINITY at w = 0), cos and sin of theta, phi. */
@@ -285,92 +215,6 @@ CR_HD static inline void cr_mino_from_bl(const cr_geo *g, const double *yb, doub
 }
 
 /* ---- Dormand-Prince 5(4) ------------------------------------------------ */
-
-/* Stages of one step: k[0] = f(y0) (first same as last), k[6] = f(y1). */
-typedef struct cr_dp5 {
-    double k[7][CR_MN];
-} cr_dp5;
-
-/* One trial step of size h from y0 with st->k[0] = f(y0): fills the other
- * stages and y1, and returns the error estimate scaled by the tolerance
- * (accept when <= 1; NaN or INFINITY when the step failed). Error scales per
- * component: w relative (floor 1e-3), dw/dtau to E, n absolute, dn/dtau to
- * omega, pr absolute; the largest ratio counts. */
-CR_HD static inline double cr_dp5_try(const cr_mino *c, double tol, double h, const double *y0,
-                                      cr_dp5 *st, double *y1)
-{
-    const double a21 = 1.0 / 5.0;
-    const double a31 = 3.0 / 40.0, a32 = 9.0 / 40.0;
-    const double a41 = 44.0 / 45.0, a42 = -56.0 / 15.0, a43 = 32.0 / 9.0;
-    const double a51 = 19372.0 / 6561.0, a52 = -25360.0 / 2187.0, a53 = 64448.0 / 6561.0,
-                 a54 = -212.0 / 729.0;
-    const double a61 = 9017.0 / 3168.0, a62 = -355.0 / 33.0, a63 = 46732.0 / 5247.0,
-                 a64 = 49.0 / 176.0, a65 = -5103.0 / 18656.0;
-    const double b1 = 35.0 / 384.0, b3 = 500.0 / 1113.0, b4 = 125.0 / 192.0,
-                 b5 = -2187.0 / 6784.0, b6 = 11.0 / 84.0;
-    const double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
-                 e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
-    double (*k)[CR_MN] = st->k;
-    double t[CR_MN];
-    double err = 0.0, sc[CR_MN]; /* 1 / (tol * scale) */
-    int i;
-    for (i = 0; i < CR_MN; i++)
-        t[i] = y0[i] + h * a21 * k[0][i];
-    cr_mino_rhs(c, t, k[1]);
-    for (i = 0; i < CR_MN; i++)
-        t[i] = y0[i] + h * (a31 * k[0][i] + a32 * k[1][i]);
-    cr_mino_rhs(c, t, k[2]);
-    for (i = 0; i < CR_MN; i++)
-        t[i] = y0[i] + h * (a41 * k[0][i] + a42 * k[1][i] + a43 * k[2][i]);
-    cr_mino_rhs(c, t, k[3]);
-    for (i = 0; i < CR_MN; i++)
-        t[i] = y0[i] + h * (a51 * k[0][i] + a52 * k[1][i] + a53 * k[2][i] + a54 * k[3][i]);
-    cr_mino_rhs(c, t, k[4]);
-    for (i = 0; i < CR_MN; i++)
-        t[i] = y0[i] + h * (a61 * k[0][i] + a62 * k[1][i] + a63 * k[2][i] + a64 * k[3][i] +
-                            a65 * k[4][i]);
-    cr_mino_rhs(c, t, k[5]);
-    for (i = 0; i < CR_MN; i++)
-        y1[i] = y0[i] + h * (b1 * k[0][i] + b3 * k[2][i] + b4 * k[3][i] + b5 * k[4][i] +
-                             b6 * k[5][i]);
-    cr_mino_rhs(c, y1, k[6]);
-
-    {
-        /* inverse scales: one division for w, one for dw/dtau */
-        double w0 = fabs(y0[CR_M_W]), w1 = fabs(y1[CR_M_W]);
-        double d0 = fabs(y0[CR_M_DW]), d1 = fabs(y1[CR_M_DW]);
-        double itol = 1.0 / tol;
-        double wm = w0 > w1 ? w0 : w1;
-        wm = wm > 1e-3 ? wm : 1e-3;
-        sc[CR_M_W] = itol / wm;
-        sc[CR_M_DW] = itol / (fabs(c->E) + (d0 > d1 ? d0 : d1));
-        sc[CR_M_NX] = sc[CR_M_NY] = sc[CR_M_NZ] = itol;
-        sc[CR_M_DNX] = sc[CR_M_DNY] = sc[CR_M_DNZ] = itol / c->omega;
-        sc[CR_M_PR] = itol;
-    }
-    for (i = 0; i < CR_MN; i++) {
-        double e = h * (e1 * k[0][i] + e3 * k[2][i] + e4 * k[3][i] + e5 * k[4][i] +
-                        e6 * k[5][i] + e7 * k[6][i]);
-        double r = fabs(e) * sc[i];
-        if (!(r <= err)) /* also propagates NaN */
-            err = r;
-    }
-    return err;
-}
-
-/* Factor for the next step size after a step with scaled error err:
- * 0.9 err^(-1/4) within [0.2, 5] (the exponent 1/4 rather than 1/5 avoids a
- * pow() per step and errs on the small side). */
-CR_HD static inline double cr_dp5_factor(double err)
-{
-    double fac;
-    if (!(err == err))
-        return 0.2;
-    if (err <= 1.6e-4) /* 0.9 err^(-1/4) >= 5 */
-        return 5.0;
-    fac = 0.9 / sqrt(sqrt(err));
-    return fac < 0.2 ? 0.2 : (fac > 5.0 ? 5.0 : fac);
-}
 
 /* Dense output of the last step (Dormand & Prince's continuous extension,
  * 4th order): the state at fraction s in [0, 1] of the step y0 -> y1 of size

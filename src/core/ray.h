@@ -353,7 +353,7 @@ CR_HD static inline double cr_ray_event_value(const cr_frame *f, const cr_ray *r
                                               const double *y)
 {
     if (ev == CR_EV_DISC)
-        return ray->kind == CR_INTEG_MINO ? -y[CR_M_NZ] : y[CR_Y_TH] - 0.5 * CR_PI;
+        return ray->kind == CR_INTEG_MINO ? cr_mino_disc_value(y) : y[CR_Y_TH] - 0.5 * CR_PI;
     return y[CR_M_W] - f->w_sky;
 }
 
@@ -361,7 +361,7 @@ CR_HD static inline double cr_ray_event_value(const cr_frame *f, const cr_ray *r
  * sign over the step (an event crossed; a start exactly on it is not). */
 CR_HD static inline int cr_ray_sign_change(double v0, double v1)
 {
-    return v0 != 0.0 && (v0 < 0.0) != (v1 < 0.0);
+    return cr_sign_change(v0, v1);
 }
 
 /* A multiple of d cos(theta) / dparameter at state y of the ray's
@@ -370,7 +370,7 @@ CR_HD static inline int cr_ray_sign_change(double v0, double v1)
  * polar axis fold (theta -> -theta, u^theta -> -u^theta). */
 CR_HD static inline double cr_ray_polar_rate(const cr_ray *ray, const double *y)
 {
-    return ray->kind == CR_INTEG_MINO ? y[CR_M_DNZ] : -sin(y[CR_Y_TH]) * y[CR_Y_UTH];
+    return ray->kind == CR_INTEG_MINO ? cr_mino_polar_rate(y) : -sin(y[CR_Y_TH]) * y[CR_Y_UTH];
 }
 
 /* Locate the root of coordinate event ev inside the current step, where the
@@ -459,7 +459,7 @@ CR_HD static inline int cr_ray_at_horizon(const cr_frame *f, const cr_ray *ray)
     if (cr_ray_ingoing(ray))
         return ray->m[CR_M_DW] >= 0.0;
     return ray->kind == CR_INTEG_MINO
-               ? ray->m[CR_M_W] >= f->w_stop && (!ray->crossed || ray->m[CR_M_DW] > 0.0)
+               ? cr_mino_at_horizon(ray->m, f->w_stop) && (!ray->crossed || ray->m[CR_M_DW] > 0.0)
                : ray->y[CR_Y_R] <= f->r_stop;
 }
 
@@ -490,9 +490,8 @@ CR_HD static inline int cr_ray_outside_stop(const cr_frame *f, const cr_ray *ray
 
 CR_HD static inline int cr_ray_escaping(const cr_frame *f, const cr_ray *ray)
 {
-    return ray->kind == CR_INTEG_MINO
-               ? ray->m[CR_M_W] <= f->w_sky && ray->m[CR_M_DW] < 0.0
-               : ray->y[CR_Y_R] >= f->r_max && ray->u[1] > 0.0;
+    return ray->kind == CR_INTEG_MINO ? cr_mino_escaping(ray->m, f->w_sky)
+                                      : ray->y[CR_Y_R] >= f->r_max && ray->u[1] > 0.0;
 }
 
 /* Whether a Mino ray that comes in from beyond the sky radius never gets
@@ -506,6 +505,9 @@ CR_HD static inline int cr_ray_misses_scene(const cr_frame *f, const cr_ray *ray
            ray->m[CR_M_W] < f->w_sky && ray->m[CR_M_DW] > 0.0 &&
            cr_mino_W(&ray->c, f->w_sky) < 0.0;
 }
+
+/* Rejected DP5 tries of one step before the ray ends as an error. */
+#define CR_DP5_MAX_RETRIES 60
 
 /* One step from the current state to y1 / m1. Returns 0, or -1 when the
  * integration failed (non-finite state, step size collapsed). In the
@@ -524,8 +526,8 @@ CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
             return -1;
         for (tries = 0;; tries++) {
             double err = cr_dp5_try(&ray->c, f->tolerance, h, ray->m, &ray->st, ray->m1);
-            double fac = cr_dp5_factor(err);
-            if (err <= 1.0) {
+            double h_next = ray->h_next;
+            if (cr_dp5_control(err, tries > 0, &h, &h_next)) {
                 double v0 = ray->m[CR_M_W] - ray->w_exit, v1 = ray->m1[CR_M_W] - ray->w_exit;
                 ray->hm = h;
                 if (cr_ray_ingoing(ray) && !cut && v1 <= 0.0 && v0 > 0.0) {
@@ -543,12 +545,11 @@ CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
                     continue;
                 }
                 ray->exit_step = cut;
-                ray->h_next = cut ? ray->h_next : h * (tries > 0 && fac > 1.0 ? 1.0 : fac);
+                ray->h_next = cut ? ray->h_next : h_next;
                 return 0;
             }
-            h *= fac;
             cut = 0;
-            if (tries == 60 || !(h > 0.0))
+            if (tries == CR_DP5_MAX_RETRIES || !(h > 0.0))
                 return -1;
         }
     }
@@ -574,9 +575,7 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
 {
     int i;
     if (ray->kind == CR_INTEG_MINO) {
-        double d0 = ray->m1[CR_M_NX] - ray->m[CR_M_NX], d1 = ray->m1[CR_M_NY] - ray->m[CR_M_NY],
-               d2 = ray->m1[CR_M_NZ] - ray->m[CR_M_NZ];
-        *turns += sqrt(d0 * d0 + d1 * d1 + d2 * d2) / CR_TWO_PI;
+        *turns += cr_mino_turns(ray->m, ray->m1);
         if (ray->exit_step) {
             /* the step ends where the ray leaves the ingoing chart */
             for (i = 0; i < CR_MN; i++)
@@ -592,8 +591,7 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
             cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
             return;
         }
-        if (ray->m1[CR_M_W] < f->w_sky && ray->m1[CR_M_DW] < 0.0 &&
-            ray->m[CR_M_W] > f->w_sky) {
+        if (cr_mino_cuts_sky(ray->m, ray->m1, f->w_sky)) {
             double ys[CR_RAY_NY];
             cr_ray_event_locate(f, ray, CR_EV_SKY, ray->m[CR_M_W] - f->w_sky, 1.0,
                                 ray->m1[CR_M_W] - f->w_sky, ys);

@@ -141,6 +141,76 @@ CR_HD static inline void cr_trace_finish(cr_pixel *px, long steps, const cr_moni
     px->err_std = m->n > 0 ? sqrt(m->m2 / m->n) : 0.0;
 }
 
+/* The ray ran into the step or turn limit. */
+CR_HD static inline void cr_trace_limit(const cr_frame *f, cr_pixel *px)
+{
+    px->outcome = CR_OUT_LIMIT;
+    px->color = f->limit_color;
+}
+
+/* The ends (6.8) at the ray's current state, before its next step, and its
+ * error monitor there: returns 1 when the ray ends here (horizon, sky,
+ * limit; px set), else 0. steps, turns: the ray's counts so far. */
+CR_HD static inline int cr_trace_ends(const cr_frame *f, cr_ray *ray, cr_pixel *px,
+                                      cr_monitor *mon, long steps, double turns)
+{
+    if (cr_ray_at_horizon(f, ray)) {
+        cr_trace_horizon(f, px);
+        return 1;
+    }
+    if (cr_ray_other_side(ray)) {
+        cr_trace_other_side(f, px);
+        return 1;
+    }
+    cr_monitor_add(mon, cr_ray_begin(ray));
+    if (cr_ray_escaping(f, ray) || (steps == 0 && cr_ray_misses_scene(f, ray))) {
+        cr_sky_shade(f, ray, px);
+        return 1;
+    }
+    if (steps >= f->max_steps || turns >= f->max_turns) {
+        cr_trace_limit(f, px);
+        return 1;
+    }
+    return 0;
+}
+
+/* Move the ray to the end of a step without a hit: the path's point there,
+ * the step's crossing and turning point counted, the commit (cr_ray_commit;
+ * turns as there). */
+CR_HD static inline void cr_trace_move(const cr_frame *f, cr_ray *ray, double *turns)
+{
+    if (ray->path)
+        cr_path_step(f, ray, ray->path, 1.0);
+    cr_trace_count(f, ray, cr_ray_y1(ray));
+    cr_ray_commit(f, ray, turns);
+}
+
+/* After a step (cr_ray_advance): the hit that ends the ray inside it, shaded
+ * (returns 1), or the move to the step's end (cr_trace_move; returns 0).
+ * x0: as for cr_trace_find_hit. */
+CR_HD static inline int cr_trace_after_step(const cr_frame *f, cr_ray *ray, cr_pixel *px,
+                                            double x0[3], double *turns)
+{
+    cr_hit disc, sphere;
+    int what = cr_trace_find_hit(f, ray, x0, &disc, &sphere);
+    if (what != CR_OUT_NONE) {
+        cr_trace_shade_hit(f, ray, what, &disc, &sphere, px);
+        return 1;
+    }
+    cr_trace_move(f, ray, turns);
+    return 0;
+}
+
+/* The ended ray's counts (but for an error), cost and error monitor into
+ * its pixel. */
+CR_HD static inline void cr_trace_done(const cr_ray *ray, cr_pixel *px, long steps,
+                                       const cr_monitor *mon)
+{
+    if (px->outcome != CR_OUT_ERROR)
+        cr_trace_counts_out(ray, px);
+    cr_trace_finish(px, steps, mon);
+}
+
 /* Trace a ray through the frame's scene (with ray->path set, recording its
  * path, path.h). */
 CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
@@ -153,44 +223,17 @@ CR_HD static inline cr_pixel cr_trace_loop(const cr_frame *f, cr_ray *ray)
     mon.mean = mon.m2 = 0.0;
     cr_trace_start(f, ray, &px, x0);
     for (;;) {
-        cr_hit disc, sphere;
-        int what;
-        if (cr_ray_at_horizon(f, ray)) {
-            cr_trace_horizon(f, &px);
+        if (cr_trace_ends(f, ray, &px, &mon, steps, turns))
             break;
-        }
-        if (cr_ray_other_side(ray)) {
-            cr_trace_other_side(f, &px);
-            break;
-        }
-        cr_monitor_add(&mon, cr_ray_begin(ray));
-        if (cr_ray_escaping(f, ray) || (steps == 0 && cr_ray_misses_scene(f, ray))) {
-            cr_sky_shade(f, ray, &px);
-            break;
-        }
-        if (steps >= f->max_steps || turns >= f->max_turns) {
-            px.outcome = CR_OUT_LIMIT;
-            px.color = f->limit_color;
-            break;
-        }
         if (cr_ray_advance(f, ray) != 0) {
             px.outcome = CR_OUT_ERROR;
             break;
         }
         steps++;
-        what = cr_trace_find_hit(f, ray, x0, &disc, &sphere);
-        if (what != CR_OUT_NONE) {
-            cr_trace_shade_hit(f, ray, what, &disc, &sphere, &px);
+        if (cr_trace_after_step(f, ray, &px, x0, &turns))
             break;
-        }
-        if (ray->path)
-            cr_path_step(f, ray, ray->path, 1.0);
-        cr_trace_count(f, ray, cr_ray_y1(ray));
-        cr_ray_commit(f, ray, &turns);
     }
-    if (px.outcome != CR_OUT_ERROR)
-        cr_trace_counts_out(ray, &px);
-    cr_trace_finish(&px, steps, &mon);
+    cr_trace_done(ray, &px, steps, &mon);
     return px;
 }
 
@@ -203,42 +246,55 @@ CR_HD static inline cr_pixel cr_trace_ray(const cr_frame *f, const cr_geo *g, co
     return cr_trace_loop(f, &ray);
 }
 
+/* The ray through image point (x, y) of frame f into ray (path NULL):
+ * returns 1, or 0 for a point outside the picture, with *px its pixel as
+ * cr_trace_point_path below describes. */
+CR_HD static inline int cr_trace_point_ray(const cr_frame *f, double x, double y, cr_ray *ray,
+                                           cr_pixel *px)
+{
+    double n[3], yb[CR_NY];
+    cr_geo g;
+    if (!cr_camera_in_image(f, x, y)) {
+        px->redshift = px->hit_r = px->hit_phi = px->bolo = -1.0;
+        px->err_mean = px->err_std = 0.0;
+        px->steps = 0;
+        px->object = -1;
+        px->order = px->theta_turns = -1;
+        px->outcome = CR_OUT_OUTSIDE;
+        px->color = cr_rgb_make(0, 0, 0);
+        return 0;
+    }
+    if (f->obs_at_inf) {
+        double alpha, beta;
+        cr_camera_screen(f, x, y, &alpha, &beta);
+        cr_camera_ray_at_infinity(f, alpha, beta, &ray->c, ray->m);
+        cr_ray_mino_start(f, ray);
+    } else {
+        cr_camera_pixel_dir(f, x, y, n);
+        cr_camera_ray(f, n, &g, yb);
+        cr_ray_from_bl(f, &g, yb, ray);
+    }
+    return 1;
+}
+
 /* Trace the one ray through image point (x, y) of frame f, in pixel units of
  * cr_camera_screen / cr_camera_pixel_dir: (i, j) is the centre of pixel
  * (i, j) (those functions add 0.5). A point outside the picture
  * (cr_camera_in_image: beyond a fisheye's image circle) is not traced: its
  * pixel has outcome CR_OUT_OUTSIDE, colour black, steps 0, redshift, hit_r,
- * hit_phi and bolo -1, object -1, err_mean = err_std = 0, and an empty path. */
+ * hit_phi and bolo -1, object, order and theta_turns -1, err_mean = err_std
+ * = 0, and an empty path. */
 CR_HD static inline cr_pixel cr_trace_point_path(const cr_frame *f, double x, double y,
                                                 cr_path *path)
 {
-    double n[3], yb[CR_NY];
-    cr_geo g;
     cr_ray ray;
-    if (!cr_camera_in_image(f, x, y)) {
-        cr_pixel px;
-        px.redshift = px.hit_r = px.hit_phi = px.bolo = -1.0;
-        px.err_mean = px.err_std = 0.0;
-        px.steps = 0;
-        px.object = -1;
-        px.order = px.theta_turns = -1;
-        px.outcome = CR_OUT_OUTSIDE;
-        px.color = cr_rgb_make(0, 0, 0);
+    cr_pixel px;
+    if (!cr_trace_point_ray(f, x, y, &ray, &px)) {
         if (path) {
             path->n = 0;
             path->started = 0;
         }
         return px;
-    }
-    if (f->obs_at_inf) {
-        double alpha, beta;
-        cr_camera_screen(f, x, y, &alpha, &beta);
-        cr_camera_ray_at_infinity(f, alpha, beta, &ray.c, ray.m);
-        cr_ray_mino_start(f, &ray);
-    } else {
-        cr_camera_pixel_dir(f, x, y, n);
-        cr_camera_ray(f, n, &g, yb);
-        cr_ray_from_bl(f, &g, yb, &ray);
     }
     ray.path = path;
     return cr_trace_loop(f, &ray);

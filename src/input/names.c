@@ -35,6 +35,10 @@
     X(CR_OUT_OUTSIDE, "outside")                                                               \
     X(CR_OUT_OTHER_SIDE, "other side")
 
+#define SIMD_WORDS(X)                                                                          \
+    X(CR_SIMD_AUTO, "auto")                                                                    \
+    X(CR_SIMD_OFF, "off")
+
 #define WORD_AT(v, w) [v] = w,
 #define LIST_ITEM(v, w) ", " w
 #define ONE(v, w) +1
@@ -51,6 +55,7 @@ static const char *const integrator_words[] = {INTEGRATOR_WORDS(WORD_AT)};
 static const char *const disc_model_words[] = {DISC_MODEL_WORDS(WORD_AT)};
 static const char *const inside_isco_words[] = {INSIDE_ISCO_WORDS(WORD_AT)};
 static const char *const outcome_words[] = {OUTCOME_WORDS(WORD_AT)};
+static const char *const simd_words[] = {SIMD_WORDS(WORD_AT)};
 
 /* the lists skip the leading ", " of their first item */
 static const kind_words kinds[CR_NAMES_COUNT_] = {
@@ -64,6 +69,7 @@ static const kind_words kinds[CR_NAMES_COUNT_] = {
     [CR_NAMES_INSIDE_ISCO] = {inside_isco_words, 0 INSIDE_ISCO_WORDS(ONE),
                               &(INSIDE_ISCO_WORDS(LIST_ITEM))[2]},
     [CR_NAMES_OUTCOME] = {outcome_words, 0 OUTCOME_WORDS(ONE), &(OUTCOME_WORDS(LIST_ITEM))[2]},
+    [CR_NAMES_SIMD] = {simd_words, 0 SIMD_WORDS(ONE), &(SIMD_WORDS(LIST_ITEM))[2]},
 };
 
 /* every value of the enumerations that have a word for each has one */
@@ -73,6 +79,8 @@ _Static_assert(sizeof integrator_words / sizeof *integrator_words == CR_INTEG_CO
                "an integrator without a word");
 _Static_assert(sizeof outcome_words / sizeof *outcome_words == CR_OUT_COUNT_,
                "an outcome without a word");
+_Static_assert(sizeof simd_words / sizeof *simd_words == CR_SIMD_COUNT_,
+               "a cpu.simd mode without a word");
 _Static_assert(sizeof motion_words / sizeof *motion_words == CR_MOTION_VELOCITY,
                "a motion without a word (only CR_MOTION_VELOCITY, the last, has none)");
 

@@ -19,7 +19,8 @@ typedef enum cr_names {
     CR_NAMES_DISC_MODEL = 3, /* chessboard, keplerian */
     CR_NAMES_INSIDE_ISCO = 4, /* nothing, plunging (cr_disc.plunge 0 or 1) */
     CR_NAMES_OUTCOME = 5,    /* none, horizon, disc, sphere, sky, error, limit, outside */
-    CR_NAMES_COUNT_ = 6
+    CR_NAMES_SIMD = 6,       /* auto, off (cpu.simd, cr_simd_mode) */
+    CR_NAMES_COUNT_ = 7
 } cr_names;
 
 /* The word of value v of kind, or "unknown" when v has none. */

@@ -112,6 +112,8 @@ int cr_trace_settings_check(const cr_trace_settings *ts, char *msg, size_t n)
     char path[96];
     for (int i = 0; i < cr_settings_count; i++) {
         const cr_setting *s = &cr_settings[i];
+        if (!s->in_frame)
+            continue;
         cr_setting_path(s, path, sizeof path);
         if (s->type == CR_SETTING_REAL) {
             double v = cr_setting_real(s, ts);

@@ -109,9 +109,10 @@ long cr_setting_int(const cr_setting *s, const cr_trace_settings *ts);
 void cr_setting_set_real(const cr_setting *s, cr_trace_settings *ts, double v);
 void cr_setting_set_int(const cr_setting *s, cr_trace_settings *ts, long v);
 
-/* Check every setting of ts against its limits, in table order: 0, or -1
- * with msg set to "section.key = value must ..." for the first one out of
- * them. */
+/* Check every setting of ts that enters the frame (use not RUN) against
+ * its limits, in table order: 0, or -1 with msg set to "section.key =
+ * value must ..." for the first one out of them. (A RUN setting is the
+ * run's, checked where the configuration is read.) */
 int cr_trace_settings_check(const cr_trace_settings *ts, char *msg, size_t n);
 
 /* The value of s in ts as info.txt shows it ("0.005", "mino", "200000",

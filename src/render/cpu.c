@@ -9,11 +9,14 @@
 
 #include "../base/memcheck.h"
 #include "../core/trace.h"
+#include "cpu_packet.h"
 
 typedef struct cr_cpu_job {
     const cr_frame *f;
     cr_pixel *out;         /* row row0 of the frame */
     int row0, rows;        /* the rows [row0, row0 + rows) */
+    int *left;             /* pixels of each row not yet done (its worker's) */
+    cr_cpu_trace_fn trace; /* the path (cr_cpu_simd_path) */
     atomic_int next_row;
     atomic_int rows_done;
     atomic_int *cancel;   /* NULL: cannot be cancelled */
@@ -21,34 +24,154 @@ typedef struct cr_cpu_job {
     pthread_cond_t finished;
 } cr_cpu_job;
 
+/* One worker's place in the rows: it takes a row at a time and hands out
+ * its pixels in order; a row is done when all its pixels are back. */
+typedef struct cr_cpu_worker_feed {
+    cr_cpu_job *job;
+    int row; /* the row being handed out (job-relative), -1 before the first */
+    int col; /* its next pixel */
+} cr_cpu_worker_feed;
+
 static int cr_cpu_cancelled(const cr_cpu_job *job)
 {
     return job->cancel && atomic_load_explicit(job->cancel, memory_order_relaxed) != 0;
 }
 
-static void *cr_cpu_worker(void *arg)
+static void cr_cpu_wake(cr_cpu_job *job)
 {
-    cr_cpu_job *job = arg;
-    const cr_frame *f = job->f;
-    for (;;) {
-        int j = atomic_fetch_add(&job->next_row, 1), i;
-        if (j >= job->rows)
-            break;
-        /* per pixel, so that a long row near the hole stops within a pixel */
-        for (i = 0; i < f->width; i++) {
-            if (cr_cpu_cancelled(job))
-                goto wake;
-            job->out[(size_t)j * f->width + i] = cr_trace_pixel(f, i, job->row0 + j);
-        }
-        if (atomic_fetch_add(&job->rows_done, 1) + 1 == job->rows)
-            goto wake;
-    }
-    return NULL;
-wake: /* the last row is done, or the render is cancelled */
     pthread_mutex_lock(&job->lock);
     pthread_cond_signal(&job->finished);
     pthread_mutex_unlock(&job->lock);
+}
+
+/* checked per pixel, so that a long row near the hole stops within a pixel */
+static int cr_cpu_next(void *ctx, int *i, int *j)
+{
+    cr_cpu_worker_feed *w = ctx;
+    cr_cpu_job *job = w->job;
+    if (cr_cpu_cancelled(job))
+        return 0;
+    if (w->row < 0 || w->col >= job->f->width) {
+        int r = atomic_fetch_add(&job->next_row, 1);
+        if (r >= job->rows)
+            return 0;
+        w->row = r;
+        w->col = 0;
+        job->left[r] = job->f->width;
+    }
+    *i = w->col++;
+    *j = job->row0 + w->row;
+    return 1;
+}
+
+static void cr_cpu_done(void *ctx, int i, int j, const cr_pixel *px)
+{
+    cr_cpu_worker_feed *w = ctx;
+    cr_cpu_job *job = w->job;
+    int r = j - job->row0;
+    job->out[(size_t)r * job->f->width + i] = *px;
+    if (--job->left[r] == 0 && atomic_fetch_add(&job->rows_done, 1) + 1 == job->rows)
+        cr_cpu_wake(job); /* the last row is done */
+}
+
+/* The scalar path: cr_trace_pixel, pixel by pixel (the reference). */
+static void cr_cpu_trace_scalar(const cr_frame *f, const cr_pixel_feed *feed)
+{
+    int i, j;
+    while (feed->next(feed->ctx, &i, &j)) {
+        cr_pixel px = cr_trace_pixel(f, i, j);
+        feed->done(feed->ctx, i, j, &px);
+    }
+}
+
+static void *cr_cpu_worker(void *arg)
+{
+    cr_cpu_job *job = arg;
+    cr_cpu_worker_feed w;
+    cr_pixel_feed feed;
+    w.job = job;
+    w.row = -1;
+    w.col = 0;
+    feed.next = cr_cpu_next;
+    feed.done = cr_cpu_done;
+    feed.ctx = &w;
+    job->trace(job->f, &feed);
+    if (cr_cpu_cancelled(job))
+        cr_cpu_wake(job);
     return NULL;
+}
+
+/* ---- the choice of path ------------------------------------------------- */
+
+static const char *const cr_cpu_simd_names[CR_CPU_SIMD_COUNT_] = {"scalar", "AVX2, 4 lanes",
+                                                                  "AVX-512, 8 lanes"};
+
+int cr_cpu_simd_pick(int mode, int has_avx2, int has_avx512f)
+{
+    if (mode == CR_SIMD_OFF || !cr_cpu_simd_built())
+        return CR_CPU_SIMD_SCALAR;
+    if (has_avx512f && has_avx2)
+        return CR_CPU_SIMD_AVX512;
+    return has_avx2 ? CR_CPU_SIMD_AVX2 : CR_CPU_SIMD_SCALAR;
+}
+
+int cr_cpu_simd_built(void)
+{
+#ifdef CR_HAVE_PACKETS
+    return 1;
+#else
+    return 0;
+#endif
+}
+
+const char *cr_cpu_simd_name(int path)
+{
+    return path >= 0 && path < CR_CPU_SIMD_COUNT_ ? cr_cpu_simd_names[path] : "?";
+}
+
+/* The CPU's features, less those CURRAY_TEST_CPU_FEATURES (for tests)
+ * takes away: "none" (a CPU without AVX2), "avx2" (AVX2 but no AVX-512). */
+static void cr_cpu_features(int *avx2, int *avx512f)
+{
+    const char *t = getenv("CURRAY_TEST_CPU_FEATURES");
+    *avx2 = *avx512f = 0;
+#if defined(CR_HAVE_PACKETS) && defined(__GNUC__)
+    __builtin_cpu_init();
+    *avx2 = __builtin_cpu_supports("avx2") != 0;
+    *avx512f = __builtin_cpu_supports("avx512f") != 0;
+#endif
+    if (t && strcmp(t, "none") == 0)
+        *avx2 = *avx512f = 0;
+    else if (t && strcmp(t, "avx2") == 0)
+        *avx512f = 0;
+}
+
+/* cpu.simd for the renders of this process (cr_cpu_simd_configure). */
+static atomic_int cr_cpu_simd_mode = CR_SIMD_AUTO;
+
+int cr_cpu_simd_configure(int mode)
+{
+    atomic_store(&cr_cpu_simd_mode, mode);
+    return cr_cpu_simd_path(mode);
+}
+
+int cr_cpu_simd_path(int mode)
+{
+    int avx2, avx512f;
+    cr_cpu_features(&avx2, &avx512f);
+    return cr_cpu_simd_pick(mode, avx2, avx512f);
+}
+
+static cr_cpu_trace_fn cr_cpu_trace_of(int path)
+{
+#ifdef CR_HAVE_PACKETS
+    if (path == CR_CPU_SIMD_AVX512)
+        return cr_packet_trace_x8;
+    if (path == CR_CPU_SIMD_AVX2)
+        return cr_packet_trace_x4;
+#endif
+    (void)path;
+    return cr_cpu_trace_scalar;
 }
 
 int cr_cpu_cores(void)
@@ -71,6 +194,15 @@ int cr_cpu_render(const cr_frame *f, int threads, cr_pixel *out, cr_progress_fn 
 int cr_cpu_render_rows(const cr_frame *f, int row0, int rows, int threads, cr_pixel *out,
                        cr_progress_fn progress, void *ctx, atomic_int *cancel, cr_err *err)
 {
+    return cr_cpu_render_rows_path(f, row0, rows, threads,
+                                   cr_cpu_simd_path(atomic_load(&cr_cpu_simd_mode)), out,
+                                   progress, ctx, cancel, err);
+}
+
+int cr_cpu_render_rows_path(const cr_frame *f, int row0, int rows, int threads, int path,
+                            cr_pixel *out, cr_progress_fn progress, void *ctx,
+                            atomic_int *cancel, cr_err *err)
+{
     pthread_t *tid;
     cr_cpu_job job;
     int t, started = 0, rc = 0;
@@ -89,8 +221,13 @@ int cr_cpu_render_rows(const cr_frame *f, int row0, int rows, int threads, cr_pi
     if (threads > rows)
         threads = rows;
     tid = malloc(sizeof *tid * (size_t)threads);
-    if (!tid)
+    job.left = malloc(sizeof *job.left * (size_t)rows);
+    if (!tid || !job.left) {
+        free(tid);
+        free(job.left);
         return cr_err_set(err, "out of memory for %d worker threads", threads);
+    }
+    job.trace = cr_cpu_trace_of(path);
     job.f = f;
     job.out = out;
     job.row0 = row0;
@@ -108,6 +245,7 @@ int cr_cpu_render_rows(const cr_frame *f, int row0, int rows, int threads, cr_pi
                 pthread_cond_destroy(&job.finished);
                 pthread_mutex_destroy(&job.lock);
                 free(tid);
+                free(job.left);
                 return cr_err_set(err, "cannot start a worker thread: %s", strerror(e));
             }
             break; /* render with the threads we have */
@@ -136,6 +274,7 @@ int cr_cpu_render_rows(const cr_frame *f, int row0, int rows, int threads, cr_pi
     for (t = 0; t < started; t++)
         pthread_join(tid[t], NULL);
     free(tid);
+    free(job.left);
     pthread_cond_destroy(&job.finished);
     pthread_mutex_destroy(&job.lock);
     if (atomic_load(&job.rows_done) < rows)

@@ -235,6 +235,29 @@ expect "--threads above the limit" 2 "--threads: expected a number of threads fr
 printf 'cpu: {threads: 4097}\n' >c.yml
 expect "configuration: threads above the limit" 1 'cpu.threads: expected a number of threads from 1 to 4096, got "4097"' \
     -s good.yml -c c.yml -o o -x 8 -y 8
+printf 'cpu: {simd: fast}\n' >c.yml
+expect "configuration: cpu.simd neither auto nor off" 1 'c.yml:1:13: cpu.simd: unknown simd "fast" (expected one of: auto, off)' \
+    -s good.yml -c c.yml -o o -x 8 -y 8
+# cpu.simd: off renders on the scalar path and says so (-v, info.txt); a CPU
+# without AVX2 (CURRAY_TEST_CPU_FEATURES=none takes it away) gets it too
+printf 'cpu: {simd: off}\n' >c.yml
+rm -rf o
+run -s good.yml -c c.yml -o o -x 8 -y 8 -a true -v true -t i
+if [ "$RC" = 0 ] && [[ "$OUT" == *"backend cpu ("*", scalar)"* ]] &&
+    grep -q "backend.*, scalar)" o/info.txt && grep -q "SIMD  *off" o/info.txt; then
+    ok "cpu.simd: off renders on the scalar path"
+else
+    bad "cpu.simd: off renders on the scalar path" "exit status $RC or no 'scalar' in -v / info.txt"
+fi
+rm -rf o
+OUT=$(CURRAY_TEST_CPU_FEATURES=none timeout 60 "$CURRAY" -s good.yml -o o -x 8 -y 8 -a true -v true -t i </dev/null 2>&1)
+RC=$?
+if [ "$RC" = 0 ] && [[ "$OUT" == *"backend cpu ("*", scalar)"* ]]; then
+    ok "a CPU without AVX2 gets the scalar path"
+else
+    bad "a CPU without AVX2 gets the scalar path" "exit status $RC or no 'scalar' in -v"
+fi
+rm -rf o
 printf 'cpu: {threads: many}\n' >c.yml
 expect "configuration: word for a number" 1 'c.yml:1:16: cpu.threads: expected a number of threads from 1 to 4096, got "many"' \
     -s good.yml -c c.yml -o o -x 8 -y 8
