@@ -13,7 +13,8 @@
  * reference: frame 0 of every scene in scenes/ at 96x64 under the default
  * integrator, rendered by cr_cpu_render_rows_path on the scalar path and on
  * each packet path this CPU has (AVX2, AVX-512), 2 threads. Required for
- * every pixel: the same outcome, object and colour, except where a hit lies
+ * every pixel: the same outcome, object, image order (order, theta_turns)
+ * and colour, except where a hit lies
  * within 1e-9 (radius relative, azimuth absolute) of the scalar one on a
  * class edge (listed; none are expected, as the lanes round as the scalar
  * code does); redshift, bolometric brightness and hit point within 1e-12
@@ -63,7 +64,8 @@ static void pk_frame(const char *path, int integrator, int w, int h, cr_scene *s
 
 static int pk_same_pixel(const cr_pixel *a, const cr_pixel *b)
 {
-    return a->outcome == b->outcome && a->object == b->object && a->color.r == b->color.r &&
+    return a->outcome == b->outcome && a->object == b->object && a->order == b->order &&
+           a->theta_turns == b->theta_turns && a->color.r == b->color.r &&
            a->color.g == b->color.g && a->color.b == b->color.b &&
            memcmp(&a->redshift, &b->redshift, sizeof a->redshift) == 0 &&
            memcmp(&a->hit_r, &b->hit_r, sizeof a->hit_r) == 0 &&
@@ -154,6 +156,7 @@ static int pk_compare_scene(const char *name, int path)
         const cr_pixel *a = &ref[k], *b = &got[k];
         double dg = pk_rel(a->redshift, b->redshift);
         int same_class = a->outcome == b->outcome && a->object == b->object &&
+                         a->order == b->order && a->theta_turns == b->theta_turns &&
                          a->color.r == b->color.r && a->color.g == b->color.g &&
                          a->color.b == b->color.b;
         same_bits += pk_same_pixel(a, b) && a->steps == b->steps &&
