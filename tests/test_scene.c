@@ -907,6 +907,161 @@ static void test_keplerian_derived_once(void **state)
     }
 }
 
+/* ---- the Keplerian disc's exposure and horizon ----------------------------- */
+
+/* accretion.exposure: a factor on the disc's light (animated too), so the
+ * frame's exposure is the default one times it, and a pixel's colour the
+ * blackbody chain at that exposure; the horizon is black next to a
+ * Keplerian disc unless horizon_color says otherwise, and stays the paper's
+ * red next to the chessboard. */
+static void test_keplerian_exposure_and_horizon(void **state)
+{
+    cr_scene s0, s2, sa, sc, sh;
+    cr_frame f0, f2, fa, fc, fh;
+    (void)state;
+    load_ok("metric: {m: 1, a: 0.5, q: 0}\n" OBSL "accretion: {model: keplerian, radius: [20]}\n",
+            &s0);
+    load_ok("metric: {m: 1, a: 0.5, q: 0}\n" OBSL
+            "accretion: {model: keplerian, radius: [20], exposure: 2.5}\n",
+            &s2);
+    load_ok("metric: {m: 1, a: 0.5, q: 0}\n" OBSL
+            "accretion: {model: keplerian, radius: [20], exposure: [linear, 1, 4]}\n",
+            &sa);
+    frame_ok(&s0, 0, 1, &f0, NULL);
+    frame_ok(&s2, 0, 1, &f2, NULL);
+    assert_true(f0.disc.exposure > 0.0);
+    assert_true(fabs(f2.disc.exposure - 2.5 * f0.disc.exposure) <= 1e-15 * f2.disc.exposure);
+    for (int k = 0; k < 3; k++) {
+        frame_ok(&sa, k, 3, &fa, NULL);
+        assert_true(fabs(fa.disc.exposure - (1.0 + 1.5 * k) * f0.disc.exposure) <=
+                    1e-15 * fa.disc.exposure);
+    }
+    {
+        /* a disc point's colour is the chain at the scaled exposure */
+        double r = 8.0, g = 1.1, bolo, F = cr_flux_table_F(&f2.disc.flux, r);
+        double T = f2.disc.t_scale * sqrt(sqrt(F));
+        cr_rgb c = cr_disc_keplerian_color(&f2.disc, r, g, &bolo);
+        cr_rgb want = cr_bb_rgb8(T, g, 2.5 * f0.disc.exposure, f0.disc.white);
+        cr_rgb plain = cr_disc_keplerian_color(&f0.disc, r, g, &bolo);
+        assert_int_equal(c.r, want.r);
+        assert_int_equal(c.g, want.g);
+        assert_int_equal(c.b, want.b);
+        assert_true(c.r + c.g + c.b > plain.r + plain.g + plain.b); /* brighter */
+    }
+    /* horizons: black by default next to the Keplerian disc, red next to
+     * the chessboard, as given when given */
+    assert_int_equal(s0.horizon_color.r, 0);
+    assert_int_equal(s0.horizon_color.g, 0);
+    assert_int_equal(s0.horizon_color.b, 0);
+    load_ok("metric: {m: 1, a: 0, q: 0}\n" OBSL
+            "accretion: {color1: [0, 255, 0], resolution: [2, 12], radius: [6, 15]}\n",
+            &sc);
+    frame_ok(&sc, 0, 1, &fc, NULL);
+    assert_int_equal(fc.horizon_color.r, 255);
+    assert_int_equal(fc.horizon_color.g, 0);
+    assert_int_equal(fc.horizon_color.b, 0);
+    load_ok("metric: {m: 1, a: 0, q: 0}\n" OBSL "accretion: {model: keplerian, radius: [20]}\n"
+            "horizon_color: [255, 0, 0]\n",
+            &sh);
+    frame_ok(&sh, 0, 1, &fh, NULL);
+    assert_int_equal(fh.horizon_color.r, 255);
+    assert_int_equal(fh.horizon_color.g, 0);
+    cr_scene_free(&s0);
+    cr_scene_free(&s2);
+    cr_scene_free(&sa);
+    cr_scene_free(&sc);
+    cr_scene_free(&sh);
+}
+
+/* The extended Reinhard curve v (1 + v / w^2) / (1 + v), written out. */
+static double reinhard(double v, double w)
+{
+    return v * (1.0 + v / (w * w)) / (1.0 + v);
+}
+
+static int cmp_dbl(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : (x > y);
+}
+
+/* The 99th percentile (nearest rank) of the luminance (Rec. 709 weights) of
+ * frame f's lit disc pixels at w x h, at the frame's exposure, from each
+ * pixel's hit radius and g through the blackbody's XYZ. */
+static double disc_p99(const cr_frame *f, int w, int h, long *lit)
+{
+    double *v = malloc(sizeof *v * (size_t)w * h), p;
+    long m = 0;
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            cr_pixel px = cr_trace_pixel(f, i, j);
+            double F, xyz[3], rgb[3], L;
+            if (px.outcome != CR_OUT_DISC || !(px.redshift > 0.0))
+                continue;
+            F = cr_flux_table_F(&f->disc.flux, px.hit_r);
+            if (!(F > 0.0))
+                continue;
+            cr_bb_xyz(f->disc.t_scale * sqrt(sqrt(F)), px.redshift, xyz);
+            cr_xyz_to_linear_srgb(xyz, rgb);
+            L = 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
+            if (L > 0.0)
+                v[m++] = L * f->disc.exposure;
+        }
+    qsort(v, (size_t)m, sizeof *v, cmp_dbl);
+    p = m > 0 ? v[(long)ceil(0.99 * m) - 1] : 0.0;
+    free(v);
+    *lit = m;
+    return p;
+}
+
+/* exposure: auto: found once from frame 0 traced 192 pixels across, the
+ * 99th percentile of the lit disc's luminance lands where the tone curve
+ * gives 0.8 of white; every frame of an animation gets the same factor;
+ * -x/-y of one aspect give the same factor; a scene whose disc is not seen
+ * keeps 1. */
+static void test_keplerian_auto_exposure(void **state)
+{
+    static const char *text = "metric: {m: 1, a: 0.9, q: 0}\n"
+                              "observer: {r: 80, theta: [linear, 5, 60], phi: 0, hfov: 40}\n"
+                              "accretion: {model: keplerian, radius: [25], mass_msun: 1e10, "
+                              "mdot_edd: 0.01, exposure: auto}\n";
+    cr_scene s;
+    cr_frame f, f1;
+    cr_err e;
+    long lit, lit2;
+    double found, p;
+    (void)state;
+    load_ok(text, &s);
+    assert_int_equal(cr_scene_auto_exposure(&s, 4, 640, 480, NULL, &lit, &e), 0);
+    found = s.disc_exposure_found;
+    assert_true(found > 1.0 && lit > 1000);
+    /* the rule, checked on the preview frame with the factor applied */
+    assert_int_equal(cr_scene_frame(&s, 0, 4, 192, 144, NULL, &f, NULL, &e), 0);
+    p = disc_p99(&f, 192, 144, &lit2);
+    assert_int_equal(lit2, lit);
+    print_message("auto exposure %.6g from %ld lit pixels: p99 %.6g -> tone curve %.9f\n", found,
+                  lit, p, reinhard(p, f.disc.white));
+    assert_true(fabs(reinhard(p, f.disc.white) - 0.8) < 1e-12);
+    /* fixed across the animation: every frame's factor is the same */
+    for (int k = 1; k < 4; k++) {
+        assert_int_equal(cr_scene_frame(&s, k, 4, 64, 48, NULL, &f1, NULL, &e), 0);
+        assert_true(f1.disc.exposure == f.disc.exposure);
+    }
+    /* another size of the same aspect, and a second call: the same factor */
+    assert_int_equal(cr_scene_auto_exposure(&s, 4, 64, 48, NULL, &lit, &e), 0);
+    assert_true(s.disc_exposure_found == found);
+    cr_scene_free(&s);
+    /* nothing of the disc in view (looking away from it): factor 1 */
+    load_ok("metric: {m: 1, a: 0, q: 0}\n"
+            "observer: {r: 80, theta: 90, phi: 0, hfov: 20, yaw: 180}\n"
+            "accretion: {model: keplerian, radius: [25], exposure: auto}\n",
+            &s);
+    assert_int_equal(cr_scene_auto_exposure(&s, 1, 64, 48, NULL, &lit, &e), 0);
+    assert_int_equal(lit, 0);
+    assert_true(s.disc_exposure_found == 1.0);
+    cr_scene_free(&s);
+}
+
 /* ---- the observer at infinity ---------------------------------------------- */
 
 #define INF_OBS "observer: {r: inf, theta: 85, phi: 0, hextent: 40}\n"
@@ -1205,7 +1360,7 @@ static void test_error_exact_message(void **state)
                      -1);
     assert_string_equal(e.msg, "scene.yml:11:3: unknown key 'colour' in accretion (expected one "
                                "of: color1, color2, resolution, yaw, radius, model, order, retrograde, "
-                               "temperature, inside_isco, mass_msun, mdot_edd)");
+                               "temperature, inside_isco, mass_msun, mdot_edd, exposure)");
     assert_int_equal(load("metric: {m: 1, a: 0, q: 0}\n"
                           "observer:\n"
                           "  r: 30\n"
@@ -1624,6 +1779,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_minimal_defaults),
+        cmocka_unit_test(test_keplerian_exposure_and_horizon),
+        cmocka_unit_test(test_keplerian_auto_exposure),
         cmocka_unit_test(test_full_scene_file),
         cmocka_unit_test(test_angle_units),
         cmocka_unit_test(test_color2_default),

@@ -67,8 +67,10 @@ function crSceneYaml(s, cmd) {
     for (const k of ['roll', 'pitch', 'yaw']) if (p[k]) L.push('  ' + k + ': ' + crDeg(p[k]));
     L.push('  radius: ' + crNum(p.radius));
   }
-  const defaults = { sky_color: [0, 0, 0], horizon_color: [255, 0, 0], error_color: [0, 0, 255],
-                     limit_color: [255, 255, 0] };
+  // the command line's defaults: the horizon is black next to a keplerian disc
+  const kep = s.accretion.enabled && s.accretion.model === 'keplerian';
+  const defaults = { sky_color: [0, 0, 0], horizon_color: kep ? [0, 0, 0] : [255, 0, 0],
+                     error_color: [0, 0, 255], limit_color: [255, 255, 0] };
   for (const k in defaults) if (!crSame(s[k], defaults[k])) L.push(k + ': ' + crRgb(s[k]));
   if (s.redshift_sky) L.push('redshift_sky: true');
   return L.join('\n') + '\n';
@@ -257,5 +259,8 @@ function crSceneFromYaml(text) {
     } else if (e.key === 'redshift_sky') s.redshift_sky = bool(e);
     else s[e.key] = rgb(e);
   }
+  // as the command line: a keplerian disc's horizon is black unless given
+  if (s.accretion.enabled && s.accretion.model === 'keplerian' &&
+      !root.map.some((e) => e.key === 'horizon_color')) s.horizon_color = [0, 0, 0];
   return s;
 }

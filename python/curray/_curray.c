@@ -91,7 +91,9 @@ static int cr_py_prepare(cr_py_job *j, const char *scene_text, Py_ssize_t scene_
     }
     j->scene_loaded = 1;
     ts = j->cfg.raytracer;
-    if (cr_frame_eval_at(&j->eval, &j->scene, (int)k, (int)n, (int)width, (int)height, &ts,
+    /* accretion.exposure: auto, as the command line finds it (from frame 0) */
+    if (cr_scene_auto_exposure(&j->scene, (int)n, (int)width, (int)height, &ts, NULL, &err) ||
+        cr_frame_eval_at(&j->eval, &j->scene, (int)k, (int)n, (int)width, (int)height, &ts,
                          &err)) {
         cr_py_job_free(j);
         cr_py_value_error("scene file ", &err);

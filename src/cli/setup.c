@@ -289,6 +289,27 @@ static int cr_check_frames(cr_run *run, cr_err *err)
     return rc;
 }
 
+/* accretion.exposure: auto: the factor for the whole run, from a preview of
+ * frame 0 (cr_scene_auto_exposure), before any frame is evaluated. */
+static int cr_exposure(cr_run *run, cr_err *err)
+{
+    long lit;
+    if (!run->scene.disc_exposure_auto)
+        return 0;
+    if (cr_scene_auto_exposure(&run->scene, (int)run->cli.frames, (int)run->cli.width,
+                               (int)run->cli.height, &run->ts, &lit, err))
+        return -1;
+    if (lit > 0)
+        cr_log_detail(&run->log, "accretion.exposure: auto: %.6g from %ld lit disc pixels of frame "
+                                 "0 traced %d pixels across",
+                      run->scene.disc_exposure_found, lit, CR_AUTO_EXPOSURE_WIDTH);
+    else
+        cr_log_info(&run->log, "curray: warning: accretion.exposure: auto: no lit disc pixel in "
+                               "frame 0 (traced %d pixels across), so the exposure is 1",
+                    CR_AUTO_EXPOSURE_WIDTH);
+    return 0;
+}
+
 /* Ask whether to proceed (E.1), only when someone can answer. */
 static int cr_confirm(cr_run *run)
 {
@@ -338,7 +359,7 @@ static void cr_summary_disc(const cr_scene *s, const cr_frame *f, double m, char
 {
     const cr_disc *d = &f->disc;
     const char *sense = s->disc_retrograde ? "retrograde" : "prograde";
-    char from[96], lum[128];
+    char from[96], lum[128], expo[48] = "";
     if (s->disc_model != CR_DISC_KEPLERIAN) {
         snprintf(buf, n, "chessboard disc from r = %g to %g, %dx%d squares", d->r_in * m,
                  d->r_out * m, s->disc_n_radial, s->disc_n_sectors);
@@ -356,8 +377,13 @@ static void cr_summary_disc(const cr_scene *s, const cr_frame *f, double m, char
                  s->disc_mass_msun, s->disc_mdot_edd, d->t_peak);
     else
         snprintf(lum, sizeof lum, "peak temperature %g K", d->t_peak);
-    snprintf(buf, n, "keplerian disc (%s orbits) from %s to %g, %s%s", sense, from, d->r_out * m, lum,
-             s->disc_plunge ? ", plunging matter inside the ISCO" : "");
+    if (s->disc_exposure_auto)
+        snprintf(expo, sizeof expo, ", exposure auto (%.4g)", s->disc_exposure_found);
+    else if (s->disc_exposure.a != 1.0 || s->disc_exposure.b != 1.0)
+        snprintf(expo, sizeof expo, ", exposure %g", cr_anim_at(s->disc_exposure, 0, 1));
+    snprintf(buf, n, "keplerian disc (%s orbits) from %s to %g, %s%s%s", sense, from,
+             d->r_out * m, lum, s->disc_plunge ? ", plunging matter inside the ISCO" : "",
+             expo);
 }
 
 /* The summary before "Proceed?" (E.1): the configuration file when one is
@@ -369,7 +395,7 @@ static void cr_log_scene(cr_run *run)
     const cr_frame *f = &run->ends[0];
     const double deg = 180.0 / CR_PI, m = cr_anim_at(s->m, 0, (int)run->cli.frames);
     const char *f0 = run->cli.frames > 1 ? " (frame 0)" : "";
-    char range[48] = "", motion[128], view[128], disc[320];
+    char range[48] = "", motion[128], view[128], disc[400];
     if (run->config_found)
         cr_log_info(&run->log, "configuration config.yml (found in the current folder; -c FILE "
                                "reads another)");
@@ -562,7 +588,8 @@ int cr_plan(cr_run *run, int *rc)
         cr_log_error(&run->log, "curray: %s", err.msg);
         return -1;
     }
-    if (cr_scene_load(run->cli.scene_path, &run->scene, &err) || cr_check_frames(run, &err)) {
+    if (cr_scene_load(run->cli.scene_path, &run->scene, &err) || cr_exposure(run, &err) ||
+        cr_check_frames(run, &err)) {
         cr_log_error(&run->log, "curray: scene file %s", err.msg);
         return -1;
     }

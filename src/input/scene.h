@@ -80,6 +80,10 @@ typedef struct cr_scene {
     double disc_mdot_edd;    /* keplerian: accretion rate in Eddington units, 0 = unset */
     int disc_order;          /* accretion.order: the disc only in that image order
                                 (cr_disc.order_sel), -1 (default) in all */
+    cr_anim disc_exposure;   /* keplerian: factor on the disc's light, > 0 (default 1;
+                                0 in both ends, as in a zeroed scene, also means 1) */
+    int disc_exposure_auto;  /* keplerian: exposure: auto (cr_scene_auto_exposure) */
+    double disc_exposure_found; /* the factor auto exposure chose (0: not computed yet) */
 
     int has_sky;
     char *sky_image;      /* path as resolved relative to the scene file's folder */
@@ -93,7 +97,7 @@ typedef struct cr_scene {
     int n_spheres;
 
     cr_rgb sky_color;     /* default black */
-    cr_rgb horizon_color; /* default red */
+    cr_rgb horizon_color; /* default red; black next to a keplerian disc */
     cr_rgb error_color;   /* default blue */
     cr_rgb limit_color;   /* default yellow */
     cr_rgb other_side_color; /* default purple (96, 0, 128) */
@@ -143,6 +147,24 @@ int cr_scene_hints(const cr_scene *s, int n, cr_err *hints, int max_hints);
 
 /* 1 when any number of the scene is animated ([linear, a, b] with a != b). */
 int cr_scene_animated(const cr_scene *s);
+/* Automatic exposure of the Keplerian disc (accretion.exposure: auto), once
+ * for the whole run: frame 0 of n is traced on the CPU at a preview size of
+ * CR_AUTO_EXPOSURE_WIDTH pixels across (the height from width x height, one
+ * sample a pixel, the disc at exposure 1), and the factor is chosen that
+ * puts the CR_AUTO_EXPOSURE_PERCENTILE-th percentile of the luminance of its
+ * lit disc pixels (before tone mapping) at CR_AUTO_EXPOSURE_LEVEL of the
+ * tone curve's white. It depends only on the scene, the raytracer settings,
+ * n and the aspect ratio: the same for every frame of an animation, for any
+ * -x/-y of that aspect, on every backend and MPI rank, and again on
+ * --resume. Stores it in s->disc_exposure_found (1 when no disc pixel is
+ * lit) and returns 0; does nothing without exposure: auto; -1 with err set
+ * when frame 0 cannot be evaluated or memory runs out. *lit receives the
+ * number of lit disc pixels it used (may be NULL). */
+#define CR_AUTO_EXPOSURE_WIDTH 192
+#define CR_AUTO_EXPOSURE_PERCENTILE 99.0
+#define CR_AUTO_EXPOSURE_LEVEL 0.8
+int cr_scene_auto_exposure(cr_scene *s, int n, int width, int height,
+                           const cr_trace_settings *ts, long *lit, cr_err *err);
 
 /* An evaluated frame with the sphere array it points into, owned together:
  * cr_frame_eval_at evaluates frame k of n into e->frame (as cr_scene_frame),

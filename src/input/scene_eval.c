@@ -16,6 +16,7 @@
 #include "../core/orbit.h"  /* cr_orbit_*, CR_FLUX_MIN_GAP */
 #include "../core/ray.h"    /* cr_ray_starts_at_infinity, cr_ray_crosses_horizons */
 #include "../core/sphere.h" /* cr_sphere_prepare */
+#include "../core/trace.h"  /* cr_trace_pixel: the preview of automatic exposure */
 #include "names.h"
 
 /* Relative slack on a^2 + Q^2 <= M^2, so that the extremal case survives
@@ -537,8 +538,94 @@ static int frame_keplerian(const cr_scene *s, int k, int n, double m, cr_frame *
     char why[CR_ERR_MSG];
     if (!f->disc.enabled || f->disc.model != CR_DISC_KEPLERIAN)
         return 0;
+    double e;
     if (cr_scene_keplerian(s, &f->metric, m, &f->disc, why, sizeof why))
         return frame_fail(err, s, k, n, "%s", why);
+    /* accretion.exposure: a factor on the disc's light (auto: the one
+     * cr_scene_auto_exposure found, 1 until it has) */
+    if (s->disc_exposure_auto)
+        e = s->disc_exposure_found > 0.0 ? s->disc_exposure_found : 1.0;
+    else if (s->disc_exposure.a == 0.0 && s->disc_exposure.b == 0.0)
+        e = 1.0; /* a scene made without the parser (zeroed): the default */
+    else if (eval(s->disc_exposure, k, n, &e))
+        return frame_fail(err, s, k, n, "accretion.exposure: not a finite number");
+    f->disc.exposure *= e;
+    if (!(isfinite(f->disc.exposure) && f->disc.exposure > 0.0))
+        return frame_fail(err, s, k, n,
+                          "accretion.exposure = %g: the disc's light at that exposure is out of "
+                          "the range of doubles (with the peak temperature %g K); use an "
+                          "exposure nearer 1",
+                          e, f->disc.t_peak);
+    return 0;
+}
+
+/* The input of the tone curve (cr_tonemap_reinhard, white point w) whose
+ * output is c in (0, 1): the positive root of v^2 / w^2 + (1 - c) v - c = 0. */
+static double tonemap_inverse(double c, double w)
+{
+    double a = 1.0 / (w * w), b = 1.0 - c;
+    return (-b + sqrt(b * b + 4.0 * a * c)) / (2.0 * a);
+}
+
+static int cmp_double(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return a < b ? -1 : (a > b);
+}
+
+int cr_scene_auto_exposure(cr_scene *s, int n, int width, int height,
+                           const cr_trace_settings *ts, long *lit, cr_err *err)
+{
+    cr_trace_settings t = ts ? *ts : cr_trace_defaults();
+    cr_frame_eval e = {0};
+    const cr_disc *d;
+    double *lum;
+    long m = 0, i, np;
+    int pw = CR_AUTO_EXPOSURE_WIDTH, ph;
+    if (lit)
+        *lit = 0;
+    if (!s->has_disc || s->disc_model != CR_DISC_KEPLERIAN || !s->disc_exposure_auto)
+        return 0;
+    ph = width > 0 && height > 0 ? (int)lround((double)pw * height / width) : pw;
+    ph = ph < 1 ? 1 : (ph > 8 * pw ? 8 * pw : ph);
+    t.samples = 1;
+    s->disc_exposure_found = 1.0; /* the preview at exposure 1 */
+    if (cr_frame_eval_at(&e, s, 0, n, pw, ph, &t, err))
+        return -1;
+    np = (long)pw * ph;
+    lum = malloc(sizeof *lum * (size_t)np);
+    if (!lum) {
+        cr_frame_eval_free(&e);
+        return frame_fail(err, s, 0, 1, "accretion.exposure: auto: out of memory");
+    }
+    d = &e.frame.disc;
+    for (i = 0; i < np; i++) {
+        cr_pixel px = cr_trace_pixel(&e.frame, (int)(i % pw), (int)(i / pw));
+        double F, xyz[3], rgb[3], L;
+        if (px.outcome != CR_OUT_DISC || !(px.redshift > 0.0))
+            continue;
+        F = cr_flux_table_F(&d->flux, px.hit_r);
+        if (!(F > 0.0))
+            continue; /* plunging matter, the zero-torque edge: dark */
+        cr_bb_xyz(d->t_scale * sqrt(sqrt(F)), px.redshift, xyz);
+        cr_xyz_to_linear_srgb(xyz, rgb);
+        L = cr_srgb_luminance(rgb) * d->exposure;
+        if (L > 0.0 && isfinite(L))
+            lum[m++] = L;
+    }
+    if (m > 0) {
+        /* nearest rank: the smallest value with at least p % of them at or below it */
+        long r = (long)ceil(CR_AUTO_EXPOSURE_PERCENTILE / 100.0 * (double)m);
+        double f;
+        qsort(lum, (size_t)m, sizeof *lum, cmp_double);
+        r = r < 1 ? 1 : (r > m ? m : r);
+        f = tonemap_inverse(CR_AUTO_EXPOSURE_LEVEL, d->white) / lum[r - 1];
+        s->disc_exposure_found = isfinite(f) && f > 0.0 ? f : 1.0;
+    }
+    if (lit)
+        *lit = m;
+    free(lum);
+    cr_frame_eval_free(&e);
     return 0;
 }
 
@@ -700,7 +787,8 @@ int cr_scene_animated(const cr_scene *s)
                           &s->obs_theta, &s->obs_phi,  &s->roll,       &s->pitch,
                           &s->yaw,       &s->hfov,     &s->vfov,       &s->hextent,
                           &s->vextent,   &s->obs_v[0], &s->obs_v[1],   &s->obs_v[2],
-                          &s->disc_yaw,  &s->disc_r_in, &s->disc_r_out, &s->sky_boundary};
+                          &s->disc_yaw,  &s->disc_r_in, &s->disc_r_out, &s->sky_boundary,
+                          &s->disc_exposure};
     size_t i;
     int j;
     for (i = 0; i < sizeof v / sizeof v[0]; i++)

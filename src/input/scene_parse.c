@@ -420,7 +420,7 @@ static int positive_number(cr_yaml *y, const cr_yaml_field *f, const char *path,
  * refuse_keys names the other model's keys by range. */
 enum accretion_key {
     ACC_COLOR1, ACC_COLOR2, ACC_RESOLUTION, ACC_YAW, ACC_RADIUS, ACC_MODEL, ACC_ORDER,
-    ACC_RETRO, ACC_TEMP, ACC_INSIDE, ACC_MASS, ACC_MDOT, ACC_N
+    ACC_RETRO, ACC_TEMP, ACC_INSIDE, ACC_MASS, ACC_MDOT, ACC_EXPOSURE, ACC_N
 };
 
 /* radius: [inner, outer] from the two items it[] of the list at path sub. */
@@ -513,6 +513,41 @@ static int parse_keplerian_luminosity(cr_yaml *y, const cr_yaml_field *f, const 
                : 0;
 }
 
+/* exposure: auto, or a factor on the disc's light, > 0 (may be animated). */
+static int parse_exposure(cr_yaml *y, const cr_yaml_field *f, const char *p, cr_scene *s,
+                          cr_err *err)
+{
+    char sub[CR_YAML_PATH], got[96];
+    if (!f->value)
+        return 0;
+    cr_yaml_path_key(sub, sizeof sub, p, f->key);
+    if (cr_yaml_scalar_is(f->value, "auto")) {
+        s->disc_exposure_auto = 1;
+        return 0;
+    }
+    if (f->value->type == YAML_SCALAR_NODE && f->value->data.scalar.length > 0) {
+        char c = (char)f->value->data.scalar.value[0];
+        if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z')) {
+            cr_yaml_describe(f->value, got, sizeof got);
+            return cr_yaml_fail(y, f->value, sub, err,
+                                "expected auto or a positive number (the factor on the disc's "
+                                "light), got %s",
+                                got);
+        }
+    }
+    if (get_anim(y, f->value, sub, V_NUMBER, &s->disc_exposure, err))
+        return -1;
+    if (!(s->disc_exposure.a > 0.0 && s->disc_exposure.b > 0.0) ||
+        !(s->disc_exposure.a <= 1e100 && s->disc_exposure.b <= 1e100))
+        return cr_yaml_fail(y, f->value, sub, err,
+                            "the exposure must lie above 0 and at most 1e+100 (a factor on the "
+                            "disc's light; 1 is the default, 2 twice as bright), got %g",
+                            s->disc_exposure.a > 0.0 && s->disc_exposure.a <= 1e100
+                                ? s->disc_exposure.b
+                                : s->disc_exposure.a);
+    return 0;
+}
+
 /* model: keplerian: radius (required), retrograde, the temperature or the
  * physical inputs, inside_isco; the chessboard's keys are refused. */
 static int parse_keplerian(cr_yaml *y, const cr_yaml_field *f, yaml_mark_t where, const char *p,
@@ -533,6 +568,8 @@ static int parse_keplerian(cr_yaml *y, const cr_yaml_field *f, yaml_mark_t where
     }
     if (parse_keplerian_luminosity(y, f, p, s, err))
         return -1;
+    if (parse_exposure(y, &f[ACC_EXPOSURE], p, s, err))
+        return -1;
     if (f[ACC_INSIDE].value) {
         cr_yaml_path_key(sub, sizeof sub, p, "inside_isco");
         if (get_choice(y, f[ACC_INSIDE].value, sub, "value", CR_NAMES_INSIDE_ISCO, "one of: %s",
@@ -551,7 +588,7 @@ static int parse_chessboard(cr_yaml *y, const cr_yaml_field *f, yaml_mark_t wher
     char sub[CR_YAML_PATH];
     yaml_node_t *it[2];
     cr_rgb c2;
-    if (refuse_keys(y, f, ACC_MDOT, ACC_RETRO, p, "applies only to model: keplerian", err))
+    if (refuse_keys(y, f, ACC_EXPOSURE, ACC_RETRO, p, "applies only to model: keplerian", err))
         return -1;
     if (!f[ACC_COLOR1].value)
         return cr_yaml_fail_at(y, where, p, err, "missing required key 'color1'");
@@ -593,7 +630,7 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
     cr_yaml_field f[ACC_N] = {OPT("color1"),     OPT("color2"),      OPT("resolution"),
                               OPT("yaw"),        OPT("radius"),      OPT("model"),
                               OPT("order"),      OPT("retrograde"), OPT("temperature"), OPT("inside_isco"),
-                              OPT("mass_msun"),  OPT("mdot_edd")};
+                              OPT("mass_msun"),  OPT("mdot_edd"),    OPT("exposure")};
     const char *p = "accretion";
     char sub[CR_YAML_PATH];
     yaml_mark_t where;
@@ -622,6 +659,9 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
     s->disc_has_r_in = 1;
     s->disc_plunge = 0;
     s->disc_mass_msun = s->disc_mdot_edd = 0.0;
+    s->disc_exposure.a = s->disc_exposure.b = 1.0;
+    s->disc_exposure_auto = 0;
+    s->disc_exposure_found = 0.0;
     if (s->disc_model == CR_DISC_KEPLERIAN)
         return parse_keplerian(y, f, where, p, s, err);
     return parse_chessboard(y, f, where, p, s, err);
@@ -799,7 +839,12 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
     if (parse_spheres(&y, root, s, err))
         goto fail;
     if (field_rgb(&y, &f[SKY], NULL, RGB(0, 0, 0), &s->sky_color, err) ||
-        field_rgb(&y, &f[HORIZON], NULL, RGB(255, 0, 0), &s->horizon_color, err) ||
+        /* the horizon: the paper's red, but black next to a Keplerian disc
+         * (a realistic picture; the chessboard keeps the paper's colours) */
+        field_rgb(&y, &f[HORIZON], NULL,
+                  s->has_disc && s->disc_model == CR_DISC_KEPLERIAN ? RGB(0, 0, 0)
+                                                                     : RGB(255, 0, 0),
+                  &s->horizon_color, err) ||
         field_rgb(&y, &f[ERRC], NULL, RGB(0, 0, 255), &s->error_color, err) ||
         field_rgb(&y, &f[LIMITC], NULL, RGB(255, 255, 0), &s->limit_color, err) ||
         field_rgb(&y, &f[OTHERC], NULL, RGB(96, 0, 128), &s->other_side_color, err) ||

@@ -120,6 +120,13 @@ static void cr_info_keplerian(FILE *fp, const cr_scene *s, const cr_frame *const
     }
     fprintf(fp, "  %-22s %s\n", "inside the ISCO",
             s->disc_plunge ? "plunging (falling with the ISCO's E and L; dark)" : "nothing");
+    if (s->disc_exposure_auto)
+        fprintf(fp, "  %-22s auto: %.10g (frame 0 traced %d pixels across: the %gth "
+                    "percentile of its lit disc pixels' luminance at %g of white)\n",
+                "exposure", s->disc_exposure_found, CR_AUTO_EXPOSURE_WIDTH,
+                CR_AUTO_EXPOSURE_PERCENTILE, CR_AUTO_EXPOSURE_LEVEL);
+    else
+        cr_put_anim(fp, "exposure", s->disc_exposure, "");
     if (!(s->disc_mass_msun > 0.0)) {
         fprintf(fp, "  %-22s %.10g K\n", "peak temperature", s->disc_temperature);
         return;

@@ -337,6 +337,14 @@ for case in "radius: [1e15], temperature: 1e300" "radius: [1e15], temperature: 1
     run -s edge.yml -o o -x 8 -y 8 -t c -a true
     if [ "$RC" = 0 ] && [ -s o/c_0.png ]; then ok "keplerian at its limits renders ($case)"; else bad "keplerian at its limits ($case)" "rc $RC"; fi
 done
+scene "keplerian exposure 0" 1 "bad.yml:3:58: accretion.exposure: the exposure must lie above 0 and at most 1e+100 (a factor on the disc's light; 1 is the default, 2 twice as bright), got 0" \
+    "$GOOD"$'accretion: {model: keplerian, radius: [6, 20], exposure: 0}\n'
+scene "keplerian exposure animated to a negative value" 1 "accretion.exposure: the exposure must lie above 0 and at most 1e+100 (a factor on the disc's light; 1 is the default, 2 twice as bright), got -1" \
+    "$GOOD"$'accretion: {model: keplerian, radius: [6, 20], exposure: [linear, 1, -1]}\n'
+scene "keplerian exposure a word" 1 "bad.yml:3:58: accretion.exposure: expected auto or a positive number (the factor on the disc's light), got \"bright\"" \
+    "$GOOD"$'accretion: {model: keplerian, radius: [6, 20], exposure: bright}\n'
+scene "chessboard exposure" 1 "accretion.exposure: applies only to model: keplerian" \
+    "$GOOD"$'accretion: {color1: [0, 255, 0], resolution: [2, 12], radius: [6, 15], exposure: 2}\n'
 scene "keplerian mdot_edd 0" 1 "accretion.mdot_edd: the accretion rate must be positive (Eddington units), got 0" \
     "$GOOD"$'accretion: {model: keplerian, radius: [15], mass_msun: 10, mdot_edd: 0}\n'
 scene "keplerian mass_msun negative" 1 "accretion.mass_msun: the hole's mass must be positive (solar masses), got -10" \

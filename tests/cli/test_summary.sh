@@ -34,7 +34,7 @@ nothing "no configuration line without a configuration file" "configuration"
 
 summary "$ROOT/scenes/keplerian-face-on.yml"
 line "keplerian disc from the mass and accretion rate, plunging" \
-    "keplerian disc (prograde orbits) from the ISCO r = 2.32088 to 25, 1e+10 solar masses at 0.01 Eddington: peak temperature 2.169e+04 K, plunging matter inside the ISCO"
+    "keplerian disc (prograde orbits) from the ISCO r = 2.32088 to 25, 1e+10 solar masses at 0.01 Eddington: peak temperature 2.169e+04 K, plunging matter inside the ISCO, exposure auto (5.454)"
 
 summary "$ROOT/scenes/observer-static-panorama.yml"
 line "the panorama: equirectangular, no hfov 0" \
