@@ -386,15 +386,35 @@ static double rn_phi(double E, double L, double q, double r0, double r1)
     return sum;
 }
 
+/* v(r1) - v(r0) along the same ray: dv/dr = -r^2 K / ((P + sqrt R) sqrt R)
+ * with P = E r^2, K = L^2, R = P^2 - Delta K (a = 0: (P - sqrt R)/Delta =
+ * K/(P + sqrt R), regular at r+). */
+static double rn_v(double E, double L, double q, double r0, double r1)
+{
+    static const double x4[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                                 0.8611363115940526};
+    static const double w4[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                                 0.3478548451374538};
+    double sum = 0.0, h = (r1 - r0) / 4000.0;
+    int i, j;
+    for (i = 0; i < 4000; i++)
+        for (j = 0; j < 4; j++) {
+            double r = r0 + h * (i + 0.5 + 0.5 * x4[j]);
+            double del = r * r - 2.0 * r + q * q, P = E * r * r, sR = sqrt(P * P - del * L * L);
+            sum += 0.5 * h * w4[j] * (-r * r * L * L / ((P + sR) * sR));
+        }
+    return sum;
+}
+
 static void test_rn_ray_path(void **state)
 {
     cr_frame f;
     cr_path path;
     static double pts[4000 * CR_PN];
     const double q = 0.8, r0 = 1.0, psi = 40.0 * DEG;
-    double n[3], E, L, worst = 0.0, vr;
+    double n[3], E, L, worst = 0.0, vr, worst_t = 0.0, rp = 0.0, rm, lp, lm;
     cr_pixel px;
-    int i, checked = 0, inside = 0;
+    int i, checked = 0, inside = 0, in_bl = 0;
     (void)state;
     fall_frame(&f, 0.0, q, r0, 90.0 * DEG, 101, 101, 1e-11);
     f.observer.projection = CR_PROJ_RECTILINEAR;
@@ -420,18 +440,34 @@ static void test_rn_ray_path(void **state)
     vr = sqrt(2.0 / r0 - q * q / (r0 * r0));
     E = 1.0 + cos(psi) * vr;
     L = sin(psi) * r0;
+    rp = cr_metric_r_plus(&f.metric);
+    rm = cr_metric_r_minus(&f.metric);
     for (i = 1; i < path.n && i < path.cap; i++) {
         const double *p = pts + i * CR_PN;
-        double want = rn_phi(E, L, q, r0, p[CR_P_R]);
+        double want = rn_phi(E, L, q, r0, p[CR_P_R]), v = rn_v(E, L, q, r0, p[CR_P_R]), G;
         worst = fmax(worst, fabs(p[CR_P_PH] - want));
+        /* the time column: v while the ray is in the ingoing chart, then BL
+         * t = v - G(r) (G written out here: partial fractions of r^2/Delta)
+         * from the step after it changes to BL beyond 2 (r+ + epsilon) on */
+        lp = log(fabs(p[CR_P_R] - rp));
+        lm = log(fabs(p[CR_P_R] - rm));
+        G = p[CR_P_R] + (rp * rp * lp - rm * rm * lm) / (rp - rm);
+        if (!in_bl && fabs(p[CR_P_T] - (v - G)) < fabs(p[CR_P_T] - v)) {
+            in_bl = 1;
+            assert_true(p[CR_P_R] > 2.0 * f.r_stop);
+        }
+        if (in_bl)
+            v -= G;
+        worst_t = fmax(worst_t, fabs(p[CR_P_T] - v) / (1.0 + fabs(v)));
         checked++;
         inside += p[CR_P_R] < cr_metric_r_plus(&f.metric);
     }
     printf("RN ray from r = %g through r+ = %g: %d path points (%d inside), worst |dphi| = "
-           "%.2e rad\n",
-           r0, cr_metric_r_plus(&f.metric), checked, inside, worst);
+           "%.2e rad, worst relative error of v (then t) %.2e\n",
+           r0, cr_metric_r_plus(&f.metric), checked, inside, worst, worst_t);
     assert_true(inside >= 4 && checked > inside + 4);
     assert_true(worst < 1e-8);
+    assert_true(worst_t < 1e-7 && in_bl);
 }
 
 /* ---- 5. continuity across r+ --------------------------------------------- */
@@ -603,6 +639,34 @@ static void test_plunge_worldline(void **state)
     sum *= h / 3.0;
     printf("Kerr plunge phi at r = 3: %.12f (quadrature %.12f)\n", f.observer.phi, sum);
     assert_true(fabs(f.observer.phi - sum) < 1e-9);
+    /* off the equator (theta = 60 deg, Sigma = r^2 + a^2 / 4): the middle frame
+     * of three sits at half the proper time, by Simpson here */
+    {
+        const char *k60 = "metric: {m: 1, a: 0.9, q: 0}\n"
+                          "observer: {r: [infall, 10, 3], theta: 60, phi: 0, hfov: 90, "
+                          "motion: infall}\n";
+        double t_all = 0.0, t_mid = 0.0, rmid, hh;
+        assert_int_equal(cr_scene_load_string(k60, strlen(k60), "scene.yml", &s, &e), 0);
+        assert_int_equal(cr_scene_frame(&s, 1, 3, 20, 20, NULL, &f, NULL, &e), 0);
+        cr_scene_free(&s);
+        rmid = f.observer.r;
+        for (k = 0; k < 2; k++) {
+            double lo = k == 0 ? 3.0 : rmid, acc = 0.0;
+            hh = (10.0 - lo) / 20000;
+            for (i = 0; i <= 20000; i++) {
+                double r = lo + i * hh;
+                double v = (r * r + 0.25 * a * a) / sqrt((r * r + a * a) * 2.0 * r);
+                acc += v * (i == 0 || i == 20000 ? 1.0 : (i % 2 ? 4.0 : 2.0));
+            }
+            if (k == 0)
+                t_all = acc * hh / 3.0;
+            else
+                t_mid = acc * hh / 3.0;
+        }
+        printf("Kerr plunge at 60 deg: middle frame r = %.10f, proper time %.12f of %.12f\n", rmid,
+               t_mid, t_all);
+        assert_true(fabs(t_mid - 0.5 * t_all) < 1e-9 * t_all);
+    }
 }
 
 /* ---- bad input ----------------------------------------------------------- */

@@ -36,15 +36,17 @@
  * horizon:
  *   P(r+) > 0: the light came in through our future horizon. The ray is
  *     followed through r+ in the ingoing chart (regular there) to r+ +
- *     epsilon, where its step is cut (cr_ray_advance) and it changes to BL
- *     (cr_ray_commit: phi = phi~ - F(r)); from there on it is an exterior
- *     ray like any other (disc, spheres, sky; back to r+ + epsilon moving
- *     inward: horizon, the past horizon, as for every exterior ray);
+ *     epsilon, where its step is cut (cr_ray_advance); from there on its
+ *     events are looked for, and it changes to BL (cr_ray_to_bl: phi =
+ *     phi~ - F(r)) beyond 2 (r+ + epsilon) or where it turns inward; it is
+ *     then an exterior ray like any other (disc, spheres, sky; back to r+ +
+ *     epsilon moving inward: horizon, the past horizon, as for every
+ *     exterior ray); one that turns before r+ + epsilon ends as horizon;
  *   P(r+) <= 0: the light came from the other exterior of the eternal hole
  *     (through the other half of the interior's past boundary, where v and
  *     phi~ diverge): the ray ends at r+ - epsilon as CR_OUT_OTHER_SIDE.
- * No event (disc, sphere) is looked for while the ray is in the ingoing
- * chart: nothing curray draws exists inside r+ + epsilon.
+ * No event (disc, sphere) is looked for inside r+ + epsilon: nothing curray
+ * draws exists there.
  */
 #ifndef CR_CORE_RAY_H
 #define CR_CORE_RAY_H
@@ -84,10 +86,11 @@ typedef struct cr_ray {
     /* The ingoing chart (header comment; all 0 for an exterior ray): where
      * the ray leaves it (w_exit: f->w_stop going out, f->w_other bound for
      * the other side), whether it goes out (exit_out), whether the current
-     * step ends there (exit_step), and whether it has left the interior
-     * (crossed, now in BL) or ended on the other side (other). */
+     * step ends there (exit_step), whether it has left the interior (out:
+     * beyond r+ + epsilon, still in the ingoing chart), has changed to BL
+     * (crossed) or ended on the other side (other). */
     double w_exit;
-    int exit_out, exit_step, crossed, other;
+    int exit_out, exit_step, out, crossed, other;
 } cr_ray;
 
 /* The ray is in the ingoing chart (inside r+ + epsilon, from an observer
@@ -97,11 +100,11 @@ CR_HD static inline int cr_ray_ingoing(const cr_ray *ray)
     return ray->kind == CR_INTEG_MINO && ray->c.chart == CR_CHART_INGOING;
 }
 
-/* Whether the objects' events are looked for in the current step: not in
- * the ingoing chart (header comment). */
+/* Whether the objects' events are looked for in the current step: not
+ * inside r+ + epsilon (header comment). */
 CR_HD static inline int cr_ray_events_on(const cr_ray *ray)
 {
-    return !cr_ray_ingoing(ray);
+    return !cr_ray_ingoing(ray) || ray->out;
 }
 
 /* BL phi minus the state's atan2(n_y, n_x) + pr: -F(r) in the ingoing
@@ -396,7 +399,7 @@ CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
     ray->kind = CR_INTEG_MINO;
     ray->path = 0;
     ray->w_exit = 0.0;
-    ray->exit_out = ray->exit_step = ray->crossed = ray->other = 0;
+    ray->exit_out = ray->exit_step = ray->out = ray->crossed = ray->other = 0;
     if (fabs(ray->m[CR_M_NZ]) < 1e-15) /* cos(pi/2) rounded: on the disc plane */
         ray->m[CR_M_NZ] = 0.0;
     cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
@@ -413,7 +416,7 @@ CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, cons
     ray->path = 0;
     ray->g = *g;
     ray->w_exit = 0.0;
-    ray->exit_out = ray->exit_step = ray->crossed = ray->other = 0;
+    ray->exit_out = ray->exit_step = ray->out = ray->crossed = ray->other = 0;
     for (i = 0; i < CR_NY; i++)
         ray->y[i] = y[i];
     if (f->integrator == CR_INTEG_MINO) {
@@ -457,7 +460,7 @@ CR_HD static inline double cr_ray_begin(cr_ray *ray)
 CR_HD static inline int cr_ray_at_horizon(const cr_frame *f, const cr_ray *ray)
 {
     if (cr_ray_ingoing(ray))
-        return ray->m[CR_M_DW] >= 0.0;
+        return !ray->out && ray->m[CR_M_DW] >= 0.0;
     return ray->kind == CR_INTEG_MINO
                ? cr_mino_at_horizon(ray->m, f->w_stop) && (!ray->crossed || ray->m[CR_M_DW] > 0.0)
                : ray->y[CR_Y_R] <= f->r_stop;
@@ -530,7 +533,7 @@ CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
             if (cr_dp5_control(err, tries > 0, &h, &h_next)) {
                 double v0 = ray->m[CR_M_W] - ray->w_exit, v1 = ray->m1[CR_M_W] - ray->w_exit;
                 ray->hm = h;
-                if (cr_ray_ingoing(ray) && !cut && v1 <= 0.0 && v0 > 0.0) {
+                if (cr_ray_ingoing(ray) && !ray->out && !cut && v1 <= 0.0 && v0 > 0.0) {
                     /* leaves the chart inside this step: end the step there */
                     double ys[CR_RAY_NY];
                     cr_falsi z;
@@ -568,6 +571,22 @@ CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
     return cr_isfinite(ray->h) ? 0 : -1;
 }
 
+/* A ray out of the interior but still in the ingoing chart changes to BL
+ * (phi = phi~ - F(r)) once it is beyond 2 (r+ + epsilon) or moves inward:
+ * the ingoing chart is regular for it while it moves out, and BL's 1/Delta in
+ * the azimuth's rate just outside r+ would cost steps; moving inward, toward
+ * the past horizon, only BL is regular. */
+CR_HD static inline void cr_ray_to_bl(const cr_frame *f, cr_ray *ray)
+{
+    if (!(cr_ray_ingoing(ray) && ray->out &&
+          (ray->m[CR_M_W] < 0.5 * f->w_stop || !(ray->m[CR_M_DW] < 0.0))))
+        return;
+    ray->m[CR_M_PR] += cr_ray_phi_shift(ray, 1.0 / ray->m[CR_M_W]); /* phi~ - F */
+    ray->c.chart = CR_CHART_BL;
+    ray->crossed = 1;
+    cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
+}
+
 /* Move the ray to the end of the current step (no hit inside it): under
  * RK4 through the polar axis, under Mino cut at the sky radius when the step
  * crosses it. Adds the turns made around the axis to *turns. */
@@ -585,10 +604,10 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
                 ray->other = 1;
                 return;
             }
-            ray->m[CR_M_PR] += cr_ray_phi_shift(ray, 1.0 / ray->m[CR_M_W]); /* phi~ - F */
-            ray->c.chart = CR_CHART_BL;
-            ray->crossed = 1;
-            cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
+            ray->out = 1;
+            for (i = 0; i < CR_MN; i++)
+                ray->st.k[0][i] = ray->st.k[6][i];
+            cr_ray_to_bl(f, ray);
             return;
         }
         if (cr_mino_cuts_sky(ray->m, ray->m1, f->w_sky)) {
@@ -601,12 +620,14 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
             if (!(ray->m[CR_M_DW] < 0.0))
                 ray->m[CR_M_DW] = -1e-300;
             cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
+            cr_ray_to_bl(f, ray);
             return;
         }
         for (i = 0; i < CR_MN; i++) {
             ray->m[i] = ray->m1[i];
             ray->st.k[0][i] = ray->st.k[6][i];
         }
+        cr_ray_to_bl(f, ray);
         return;
     }
     *turns += fabs(ray->y1[CR_Y_PH] - ray->y[CR_Y_PH]) / CR_TWO_PI;

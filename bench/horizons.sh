@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# bench/horizons.sh: the cost per ray of a frame inside the horizon against
+# one outside, same scene and size: scenes/plunge-schwarzschild.yml (a
+# Keplerian disc, the sky grid, 300 deg fisheye) with observer.r fixed at
+# 3 M (outside r+ = 2 M), 1 M and 0.3 M (inside), and scenes/plunge-kerr.yml
+# (a = 0.6, r+ = 1.8 M, r- = 0.2 M) at 3 M and 1 M. Runs are interleaved; per
+# case it reports the median wall and CPU time, the steps per ray (info.txt)
+# and the CPU time per ray.
+#
+# Usage: bench/horizons.sh [--runs R] [--size WxH] [--threads T]
+#   defaults: 3 runs, 320x180, curray's default threads
+# Environment: CURRAY_BIN (default build/curray).
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(dirname "$here")
+runs=3 size=320x180 threads=""
+while [ $# -gt 0 ]; do
+    case $1 in
+    --runs) runs=$2; shift 2 ;;
+    --size) size=$2; shift 2 ;;
+    --threads) threads=$2; shift 2 ;;
+    -h | --help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "horizons.sh: unknown option '$1'" >&2; exit 2 ;;
+    esac
+done
+bin=${CURRAY_BIN:-$root/build/curray}
+[ -x "$bin" ] || { echo "horizons.sh: no curray binary (set CURRAY_BIN)" >&2; exit 1; }
+w=${size%x*} h=${size#*x}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cases="schwarzschild:3 schwarzschild:1 schwarzschild:0.3 kerr:3 kerr:1"
+for c in $cases; do
+    hole=${c%:*} r=${c#*:}
+    sed -e "s|^  r: \[infall, .*\]|  r: $r|" -e "s|image: sky_grid.png|image: $root/scenes/sky_grid.png|" \
+        "$root/scenes/plunge-$hole.yml" >"$tmp/$hole-$r.yml"
+done
+for k in $(seq "$runs"); do
+    for c in $cases; do
+        hole=${c%:*} r=${c#*:} o=$tmp/o-$hole-$r
+        rm -rf "$o"
+        python3 "$here/timecmd.py" "$tmp/t-$hole-$r.$k" -- "$bin" -s "$tmp/$hole-$r.yml" -o "$o" \
+            -x "$w" -y "$h" -t ci -a true --backend cpu ${threads:+--threads "$threads"}
+        steps=$(awk '$1 == "integrator" && $2 == "steps" {print $3; exit}' "$o/info.txt")
+        rays=$(awk '$1 == "rays" {print $2; exit}' "$o/info.txt")
+        echo "$(cat "$tmp/t-$hole-$r.$k") $steps $rays" >>"$tmp/all-$hole-$r"
+    done
+done
+echo "| hole | r (M) | inside r+ | runs | wall median (s) | CPU median (s) | steps/ray | CPU us/ray |"
+echo "|---|---|---|---|---|---|---|---|"
+for c in $cases; do
+    hole=${c%:*} r=${c#*:}
+    python3 - "$tmp/all-$hole-$r" "$hole" "$r" <<'PY'
+import statistics, sys
+rows = [l.split() for l in open(sys.argv[1])]
+# timecmd.py's wall user sys maxrss status, then steps and rays of info.txt
+wall = statistics.median(float(x[0]) for x in rows)
+cpu = statistics.median(float(x[1]) + float(x[2]) for x in rows)
+steps, rays = float(rows[0][5]), float(rows[0][6])
+rp = 2.0 if sys.argv[2] == "schwarzschild" else 1.8
+r = float(sys.argv[3])
+print(f"| {sys.argv[2]} | {r:g} | {'yes' if r < rp else 'no'} | {len(rows)} | {wall:.3f} | {cpu:.3f} | "
+      f"{steps / rays:.1f} | {1e6 * cpu / rays:.2f} |")
+PY
+done
