@@ -9,8 +9,10 @@
 #   (b) with --before BIN (a curray built before the early stop, e.g. the
 #       commit before it): the a = 0.9 disc seen from r = 30, 100 and 1e6 M
 #       (bench/scenes/distance-r30, mino-r100, distance-r1e6), DSIZE x DSIZE
-#       (200), 1 thread, both with cpu.simd off where the binary knows it:
-#       BIN against this curray; steps per ray from info.txt.
+#       (200), 1 thread, both with cpu.simd off (BIN too where it knows the
+#       key): BIN against this curray; steps per ray from info.txt.
+#   (c) `make demo`'s render (scenes/demo.yml, 640 x 480, every core): this
+#       curray with cpu.simd off and auto, and with --before BIN that one.
 # Every case runs --runs times (5), interleaved (case 1, case 2, ..., case 1,
 # ...), each a whole process timed by bench/timecmd.py (wall, user + sys CPU
 # from wait4); the report gives medians and the ratios of the medians, and
@@ -47,27 +49,40 @@ printf 'cpu: {simd: off}\n' >"$work/off.yml"
 printf 'cpu: {simd: auto}\n' >"$work/auto.yml"
 : >"$work/empty.yml"
 
-# case: name|binary|scene|config|size|environment
-cases=("a-scalar|$CURRAY|$S/mino-r100.yml|$work/off.yml|$size|"
-       "a-avx2|$CURRAY|$S/mino-r100.yml|$work/auto.yml|$size|CURRAY_TEST_CPU_FEATURES=avx2"
-       "a-auto|$CURRAY|$S/mino-r100.yml|$work/auto.yml|$size|")
+# case: name|binary|scene|config|size (or WxH)|threads|environment
+D=$REPO_DIR/scenes/demo.yml
+cases=("a-scalar|$CURRAY|$S/mino-r100.yml|$work/off.yml|$size|1|"
+       "a-avx2|$CURRAY|$S/mino-r100.yml|$work/auto.yml|$size|1|CURRAY_TEST_CPU_FEATURES=avx2"
+       "a-auto|$CURRAY|$S/mino-r100.yml|$work/auto.yml|$size|1|"
+       "c-scalar|$CURRAY|$D|$work/off.yml|640x480|0|"
+       "c-auto|$CURRAY|$D|$work/auto.yml|640x480|0|")
+# the older binary on the scalar path too when it knows cpu.simd
+bcfg=$work/empty.yml
+if [ -n "$before" ] && "$before" -s "$S/mino-r100.yml" -c "$work/off.yml" -o "$work/probe" -x 1 -y 1 \
+    -t i -a true -q true >/dev/null 2>&1; then
+    bcfg=$work/off.yml
+fi
+[ -z "$before" ] || cases+=("c-before|$before|$D|$bcfg|640x480|0|")
 if [ -n "$before" ]; then
     for d in r30 r100 r1e6; do
         sc=$S/distance-$d.yml
         [ $d = r100 ] && sc=$S/mino-r100.yml
-        cases+=("b-$d-before|$before|$sc|$work/empty.yml|$dsize|")
-        cases+=("b-$d-after|$CURRAY|$sc|$work/off.yml|$dsize|")
+        cases+=("b-$d-before|$before|$sc|$bcfg|$dsize|1|")
+        cases+=("b-$d-after|$CURRAY|$sc|$work/off.yml|$dsize|1|")
     done
 fi
 load0=$(cut -d' ' -f1 /proc/loadavg)
 echo "case,run,wall_s,cpu_s,steps_per_ray" >"$out-runs.csv"
 for ((r = 1; r <= runs; r++)); do
     for c in "${cases[@]}"; do
-        IFS='|' read -r name bin scene cfg sz envs <<<"$c"
+        IFS='|' read -r name bin scene cfg sz nt envs <<<"$c"
         o=$work/$name
         rm -rf "$o"
+        w=${sz%x*} h=${sz#*x}
+        topt=(--threads "$nt")
+        [ "$nt" = 0 ] && topt=()
         env $envs python3 "$BENCH_DIR/timecmd.py" "$work/t" -- "$bin" -s "$scene" -c "$cfg" \
-            -o "$o" -x "$sz" -y "$sz" -t i -a true -q true --threads 1 ||
+            -o "$o" -x "$w" -y "$h" -t i -a true -q true "${topt[@]}" ||
             die "$name failed: $(tail -3 "$work/t.log")"
         read -r wall user sys _ _ <"$work/t"
         spr=$(awk '/^  steps per ray/ {print $4; exit}' "$o/info.txt")
@@ -93,6 +108,12 @@ print("| --- | ---: | ---: | ---: | ---: | ---: |")
 for name, label in (("a-scalar", "scalar (cpu.simd: off)"), ("a-avx2", "AVX2, 4 lanes"), ("a-auto", "auto (widest)")):
     c, w = med(name, "cpu_s"), med(name, "wall_s")
     print(f"| {label} | {c:.3f} | {w:.3f} | {med('a-scalar','cpu_s')/c:.2f}x fewer | {med('a-scalar','wall_s')/w:.2f}x | {by[name][0]['steps_per_ray']} |")
+print(f"\n(c) make demo's render (scenes/demo.yml, 640x480, every core)\n")
+print("| curray | CPU s | wall s | steps/ray |")
+print("| --- | ---: | ---: | ---: |")
+for name, label in (("c-before", "before (--before)"), ("c-scalar", "this, cpu.simd: off"), ("c-auto", "this, cpu.simd: auto")):
+    if name in by:
+        print(f"| {label} | {med(name,'cpu_s'):.3f} | {med(name,'wall_s'):.3f} | {by[name][0]['steps_per_ray']} |")
 if "b-r30-before" in by:
     print(f"\n(b) early stop, {dsize}x{dsize}, 1 thread, scalar path\n")
     print("| observer | steps/ray before | after | CPU s before | after | CPU after/before | wall before | after |")
