@@ -1098,12 +1098,12 @@ static void test_info(void **state)
 static void test_output_types(void **state)
 {
     fixture *f = *state;
-    static const char *const list = "use any of i, c, r, d, b, n, f, v";
+    static const char *const list = "use any of i, c, r, d, b, n, s, f, v";
     cr_err err;
     char want[256], one[2] = {0, 0}, bad[3] = {'c', 0, 0}, out[16], path[4096];
     int n = cr_output_type_count(), frames = 0;
 
-    assert_int_equal(n, 8);
+    assert_int_equal(n, 9);
     for (int i = 0; i < n; i++) {
         const cr_output_type *t = cr_output_type_at(i);
         assert_ptr_equal(cr_output_type_find(t->letter), t);
@@ -1120,7 +1120,7 @@ static void test_output_types(void **state)
         }
         frames += t->scope == CR_OUTPUT_PER_FRAME;
     }
-    assert_int_equal(frames, 6);
+    assert_int_equal(frames, 7);
     assert_null(cr_output_type_at(n));
     assert_null(cr_output_type_at(-1));
     for (int c = 1; c < 256; c++) {
@@ -1180,7 +1180,7 @@ static void test_output_types(void **state)
         memset(px, 0, sizeof px);
         for (int i = 0; i < 6 * 4; i++)
             px[i].outcome = CR_OUT_SKY;
-        cr_frame_output o = {f->dir, 2, 3, &fr, px, &s};
+        cr_frame_output o = {f->dir, 2, 3, &fr, px, &s, NULL, 0};
         for (int i = 0; i < n; i++) {
             const cr_output_type *t = cr_output_type_at(i);
             if (t->scope != CR_OUTPUT_PER_FRAME || (t->available && !t->available(NULL)))
@@ -1188,6 +1188,13 @@ static void test_output_types(void **state)
             assert_int_equal(cr_output_file_name(t->letter, 2, out, sizeof out), 0);
             join(path, f, out);
             assert_int_equal(access(path, F_OK), -1);
+            if (t->letter == 's') {
+                /* the spectrum needs a Keplerian disc: refused, nothing written */
+                assert_int_equal(t->write(&o, &err), -1);
+                assert_string_equal(err.msg, "-t s: the frame has no Keplerian disc");
+                assert_int_equal(access(path, F_OK), -1);
+                continue;
+            }
             assert_int_equal(t->write(&o, &err), 0);
             assert_int_equal(access(path, F_OK), 0);
         }

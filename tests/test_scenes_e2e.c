@@ -256,7 +256,7 @@ static shot *render(const char *path, int k, int n, double dphi)
     run.first = run.last = &s->f;
     {
         /* each per-frame type of "crd" through its row of the output table */
-        cr_frame_output o = {s->dir, k, n, &s->f, s->px, &s->scene};
+        cr_frame_output o = {s->dir, k, n, &s->f, s->px, &s->scene, NULL, 0};
         for (const char *t = "crd"; *t; t++)
             if (cr_output_type_find(*t)->write(&o, &err))
                 fail_msg("%s: %c: %s", path, *t, err.msg);

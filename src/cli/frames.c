@@ -121,8 +121,9 @@ static int cr_write_frame_file(cr_run *run, int slot, char t, int k, const cr_fr
                                const cr_pixel *px, cr_err *err)
 {
     const cr_output_type *type = cr_output_type_find(t);
-    cr_frame_output o = {run->cli.output_dir, k, (int)run->cli.frames, f, px, &run->scene};
-    char name[64];
+    char name[64], note[512] = "";
+    cr_frame_output o = {run->cli.output_dir, k, (int)run->cli.frames, f, px, &run->scene,
+                         note, sizeof note};
     int rc;
     if (!type || !type->write || cr_output_file_name(t, k, name, sizeof name) != 0)
         return cr_err_set(err, "no frame file for output type '%c'", t);
@@ -130,6 +131,8 @@ static int cr_write_frame_file(cr_run *run, int slot, char t, int k, const cr_fr
         return cr_err_set(err, "interrupted");
     rc = type->write(&o, err);
     cr_interrupt_file_end(&run->intr, slot, rc == 0, 0);
+    if (rc == 0 && note[0])
+        cr_log_info(&run->log, "curray: warning: frame %d: %s", k, note);
     return rc;
 }
 

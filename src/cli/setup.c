@@ -10,6 +10,7 @@
 #include "../base/fsutil.h"
 #include "../base/memcheck.h"
 #include "../output/fits.h"
+#include "../output/spectrum.h"
 #include "../output/types.h"
 #include "../output/video.h"
 #include "../render/cpu.h"
@@ -591,6 +592,10 @@ int cr_plan(cr_run *run, int *rc)
     if (cr_scene_load(run->cli.scene_path, &run->scene, &err) || cr_exposure(run, &err) ||
         cr_check_frames(run, &err)) {
         cr_log_error(&run->log, "curray: scene file %s", err.msg);
+        return -1;
+    }
+    if (cr_output_types_has(run->cli.output_type, 's') && cr_spectrum_check(&run->scene, &err)) {
+        cr_log_error(&run->log, "curray: %s", err.msg);
         return -1;
     }
     if (run->scene.sky_rgb && cr_check_memory(run, run->n_workers, &err)) { /* with the sky */

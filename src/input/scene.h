@@ -38,6 +38,22 @@ typedef struct cr_scene_sphere {
     int line;                    /* line of its `sphere:` key, for messages */
 } cr_scene_sphere;
 
+/* The spectrum section (-t s, src/output/spectrum.h): a line profile and
+ * the blackbody continuum of a Keplerian disc. Energies in keV. */
+typedef struct cr_spectrum_spec {
+    int given;                /* the scene has a spectrum section */
+    double line_e0, line_q;   /* line.energy_kev (6.4), line.emissivity_index (3) */
+    int line_bins;            /* line.bins (200), linear in energy */
+    double line_lo, line_hi;  /* line.range (default 0.1 to 1.5 x energy_kev) */
+    double f_col;             /* continuum.f_col (1.7) */
+    int cont_bins;            /* continuum.bins (100), logarithmic in energy */
+    double cont_lo, cont_hi;  /* continuum.range; 0, 0 (the default): 0.01 to 30 x
+                                 f_col k T_peak of the frame's disc */
+} cr_spectrum_spec;
+
+/* The defaults of every spectrum key. */
+cr_spectrum_spec cr_spectrum_defaults(void);
+
 typedef struct cr_scene {
     char *path; /* the file it was read from */
 
@@ -101,6 +117,7 @@ typedef struct cr_scene {
     cr_rgb error_color;   /* default blue */
     cr_rgb limit_color;   /* default yellow */
     cr_rgb other_side_color; /* default purple (96, 0, 128) */
+    cr_spectrum_spec spectrum; /* spectrum: (given = 0: the defaults) */
     int redshift_sky;     /* redshift_sky: colour the sky in r_<k>.png by its
                              shift (cr_redshift_sky_color); default 0, black as
                              in the paper (6.9) */

@@ -667,6 +667,129 @@ static int parse_accretion(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sc
     return parse_chessboard(y, f, where, p, s, err);
 }
 
+cr_spectrum_spec cr_spectrum_defaults(void)
+{
+    cr_spectrum_spec d;
+    memset(&d, 0, sizeof d);
+    d.line_e0 = 6.4;
+    d.line_q = 3.0;
+    d.line_bins = 200;
+    d.line_lo = 0.1 * d.line_e0;
+    d.line_hi = 1.5 * d.line_e0;
+    d.f_col = 1.7;
+    d.cont_bins = 100;
+    return d;
+}
+
+/* An energy range [lo, hi] in keV at field f of path: two numbers,
+ * 0 < lo < hi. */
+static int spectrum_range(cr_yaml *y, const cr_yaml_field *f, const char *path, double *lo,
+                          double *hi, cr_err *err)
+{
+    char sub[CR_YAML_PATH], sub2[CR_YAML_PATH];
+    yaml_node_t *it[2];
+    double v[2];
+    if (!f->value)
+        return 0;
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    if (cr_yaml_list(y, f->value, sub, 2, "an energy range [low, high] in keV", it, NULL, err))
+        return -1;
+    for (int i = 0; i < 2; i++) {
+        cr_yaml_path_index(sub2, sizeof sub2, sub, i);
+        if (cr_yaml_number(y, it[i], sub2, &v[i], err))
+            return -1;
+        if (!(v[i] > 0.0) || !isfinite(v[i]))
+            return cr_yaml_fail(y, it[i], sub2, err,
+                                "a photon energy must be positive (keV), got %g", v[i]);
+    }
+    if (!(v[0] < v[1]))
+        return cr_yaml_fail(y, f->value, sub, err,
+                            "the range [%g, %g] keV is empty: the low end must be below the high "
+                            "end",
+                            v[0], v[1]);
+    *lo = v[0];
+    *hi = v[1];
+    return 0;
+}
+
+/* bins of field f of path: a positive integer up to 1e6. */
+static int spectrum_bins(cr_yaml *y, const cr_yaml_field *f, const char *path, int *out,
+                         cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    long v;
+    if (!f->value)
+        return 0;
+    cr_yaml_path_key(sub, sizeof sub, path, f->key);
+    if (cr_yaml_int(y, f->value, sub, 1, 1000000L, "a number of energy bins from 1 to 1000000",
+                    &v, err))
+        return -1;
+    *out = (int)v;
+    return 0;
+}
+
+/* spectrum: {line: {energy_kev, emissivity_index, bins, range},
+ * continuum: {f_col, bins, range}}, every key optional; only with a
+ * Keplerian disc (parsed before). */
+static int parse_spectrum(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
+                          cr_err *err)
+{
+    enum { LINE, CONT, N };
+    enum { L_E0, L_Q, L_BINS, L_RANGE, L_N };
+    enum { C_FCOL, C_BINS, C_RANGE, C_N };
+    cr_yaml_field f[N] = {OPT("line"), OPT("continuum")};
+    cr_yaml_field lf[L_N] = {OPT("energy_kev"), OPT("emissivity_index"), OPT("bins"),
+                             OPT("range")};
+    cr_yaml_field cf[C_N] = {OPT("f_col"), OPT("bins"), OPT("range")};
+    cr_spectrum_spec *sp = &s->spectrum;
+    if (!s->has_disc || s->disc_model != CR_DISC_KEPLERIAN)
+        return cr_yaml_fail(y, key, "spectrum", err,
+                            "the spectrum is that of a Keplerian disc, and this scene has %s; "
+                            "add accretion: {model: keplerian, ...} or remove spectrum",
+                            s->has_disc ? "a chessboard disc" : "no disc");
+    if (cr_yaml_fields(y, map, "spectrum", key, f, N, err))
+        return -1;
+    *sp = cr_spectrum_defaults();
+    sp->given = 1;
+    if (f[LINE].value) {
+        const char *p = "spectrum.line";
+        int range_given;
+        if (cr_yaml_fields(y, f[LINE].value, p, f[LINE].key_node, lf, L_N, err) ||
+            positive_number(y, &lf[L_E0], p, "the line's rest energy", "keV", 1e-30, 1e30,
+                            "a photon energy", &sp->line_e0, err) ||
+            spectrum_bins(y, &lf[L_BINS], p, &sp->line_bins, err))
+            return -1;
+        if (lf[L_Q].value) {
+            char sub[CR_YAML_PATH];
+            cr_yaml_path_key(sub, sizeof sub, p, "emissivity_index");
+            if (cr_yaml_number(y, lf[L_Q].value, sub, &sp->line_q, err))
+                return -1;
+            if (!isfinite(sp->line_q) || fabs(sp->line_q) > 100.0)
+                return cr_yaml_fail(y, lf[L_Q].value, sub, err,
+                                    "the emissivity index q of r^-q must lie between -100 and "
+                                    "100, got %g",
+                                    sp->line_q);
+        }
+        range_given = lf[L_RANGE].value != NULL;
+        if (spectrum_range(y, &lf[L_RANGE], p, &sp->line_lo, &sp->line_hi, err))
+            return -1;
+        if (!range_given) {
+            sp->line_lo = 0.1 * sp->line_e0;
+            sp->line_hi = 1.5 * sp->line_e0;
+        }
+    }
+    if (f[CONT].value) {
+        const char *p = "spectrum.continuum";
+        if (cr_yaml_fields(y, f[CONT].value, p, f[CONT].key_node, cf, C_N, err) ||
+            positive_number(y, &cf[C_FCOL], p, "the colour correction f_col", "T_col / T_eff",
+                            1e-3, 1e3, "a colour correction", &sp->f_col, err) ||
+            spectrum_bins(y, &cf[C_BINS], p, &sp->cont_bins, err) ||
+            spectrum_range(y, &cf[C_RANGE], p, &sp->cont_lo, &sp->cont_hi, err))
+            return -1;
+    }
+    return 0;
+}
+
 /* dir + name into a new string (dir may be empty). NULL when out of memory. */
 static char *join_path(const char *dir, size_t dir_len, const char *name)
 {
@@ -804,12 +927,13 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
 {
     enum {
         METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, LIMITC, REDSKY,
-        OTHERC, N
+        OTHERC, SPECTRUM, N
     };
     cr_yaml_field f[N] = {REQ("metric"),    REQ("observer"),      OPT("accretion"),
                           OPT("skymap"),    MANY("sphere"),       OPT("spheres"),
                           OPT("sky_color"), OPT("horizon_color"), OPT("error_color"),
-                          OPT("limit_color"), OPT("redshift_sky"), OPT("other_side_color")};
+                          OPT("limit_color"), OPT("redshift_sky"), OPT("other_side_color"),
+                          OPT("spectrum")};
     cr_yaml y;
     yaml_node_t *root;
     char got[96];
@@ -835,6 +959,10 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
         goto fail;
     if (f[ACCRETION].value &&
         parse_accretion(&y, f[ACCRETION].key_node, f[ACCRETION].value, s, err))
+        goto fail;
+    s->spectrum = cr_spectrum_defaults();
+    if (f[SPECTRUM].key_node &&
+        parse_spectrum(&y, f[SPECTRUM].key_node, f[SPECTRUM].value, s, err))
         goto fail;
     if (parse_spheres(&y, root, s, err))
         goto fail;

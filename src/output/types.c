@@ -6,6 +6,7 @@
 
 #include "fits.h"
 #include "output.h"
+#include "spectrum.h"
 
 /* Table order is the order the per-frame files of a frame are written and
  * the order the letters are listed in messages. */
@@ -17,6 +18,7 @@ static const cr_output_type cr_output_types[] = {
     {'d', CR_OUTPUT_PER_FRAME, "csv", cr_output_write_csv, 0, NULL, NULL},
     {'b', CR_OUTPUT_PER_FRAME, "png", cr_output_write_bolometric, 0, NULL, NULL},
     {'n', CR_OUTPUT_PER_FRAME, "png", cr_output_write_order, 0, NULL, NULL},
+    {'s', CR_OUTPUT_PER_FRAME, "csv", cr_output_write_spectrum, 0, NULL, NULL},
     {'f', CR_OUTPUT_PER_FRAME, "fits", cr_output_write_fits, 0, cr_fits_available,
      CR_FITS_MISSING},
     {'v', CR_OUTPUT_PER_RUN, "c.mp4", NULL, 'c', NULL, NULL},                 /* video.h */
@@ -42,7 +44,7 @@ int cr_output_type_count(void)
     return CR_N_OUTPUT_TYPES;
 }
 
-/* "i, c, r, d, b, n, f, v" into out[n]. */
+/* "i, c, r, d, b, n, s, f, v" into out[n]. */
 static void cr_output_letters_list(char *out, size_t n)
 {
     size_t len = 0;

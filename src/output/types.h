@@ -33,6 +33,9 @@ typedef struct cr_frame_output {
     const cr_scene *scene;  /* what the frame was made from, for what the frame
                                does not hold: the scene file's name, M in the
                                scene's length unit, the key redshift_sky */
+    char *note;             /* NULL, or room for note_n bytes where a writer puts a
+                               warning for the console ("" when none) */
+    size_t note_n;
 } cr_frame_output;
 
 typedef enum cr_output_scope {

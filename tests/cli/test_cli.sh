@@ -117,6 +117,21 @@ if [ "$RC" = 0 ] && cmp -s o/c_0.png o2/c_0.png && ! cmp -s o/r_0.png o2/r_0.png
 else
     bad "redshift_sky colours the sky in r_0.png only" "rc $RC"
 fi
+# -t s needs a Keplerian disc: refused before rendering, nothing written;
+# with one it writes s_0.csv (its values: test_spectrum)
+expect "-t s without a Keplerian disc" 1 \
+    "curray: -t s: the spectrum is that of a Keplerian disc, and the scene has no disc" \
+    -s good.yml -o o -x 8 -y 8 -t is -a true
+printf '%s' "$GOOD" >kep.yml
+printf 'accretion: {model: keplerian, radius: [12]}\nspectrum: {line: {bins: 4}}\n' >>kep.yml
+rm -rf o
+run -s kep.yml -o o -x 16 -y 16 -t s -a true
+if [ "$RC" = 0 ] && [ -f o/s_0.csv ] && [ "$(head -1 o/s_0.csv)" = "spectrum,bin,e_lo_kev,e_hi_kev,e_kev,g,flux,normalised" ] &&
+    [ "$(grep -c '^line,' o/s_0.csv)" = 4 ] && [[ "$OUT" == *"-t s: only "*" rays meet the inner disc"* ]]; then
+    ok "-t s writes s_0.csv and warns about a coarse image"
+else
+    bad "-t s writes s_0.csv" "rc $RC"
+fi
 rm -rf o2
 
 # --- missing or unreadable files -------------------------------------------
