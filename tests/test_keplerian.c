@@ -424,7 +424,7 @@ static void test_csv(void **state)
     rewind(fp);
     assert_non_null(fgets(line, sizeof line, fp));
     assert_string_equal(line, "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,"
-                              "bolometric,order,theta_turns\n");
+                              "bolometric,order,theta_turns,delay\n");
     while (fgets(line, sizeof line, fp)) {
         int x, y;
         double z, hr, hp, bolo;

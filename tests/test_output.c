@@ -690,6 +690,7 @@ static void make_frame(cr_pixel *px, int w, int h)
         /* the counts: -1 (no ray traced to an end), 0, small and the cap */
         p->order = (int16_t)(i % 13 == 0 ? -1 : i % 13 == 1 ? CR_COUNT_MAX : (int)(rnd() % 5));
         p->theta_turns = (int16_t)(i % 17 == 0 ? -1 : (int)(rnd() % 7));
+        p->delay = i % 13 == 0 ? -1.0 : 100.0 * ((double)rnd() / 4294967296.0) - 30.0;
     }
 }
 
@@ -714,7 +715,7 @@ static void test_csv_roundtrip(void **state)
     assert_non_null(fgets(line, sizeof line, fp));
     assert_string_equal(line,
                         "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,"
-                        "bolometric,order,theta_turns\n");
+                        "bolometric,order,theta_turns,delay\n");
     for (int i = 0; i < W * H; i++) {
         int x, y, n_hit = 0;
         unsigned r, g, b, steps;
@@ -727,7 +728,18 @@ static void test_csv_roundtrip(void **state)
         /* then the bolometric column: -1 except on a Keplerian disc hit */
         if (!(px[i].outcome == CR_OUT_DISC && px[i].bolo >= 0.0))
             assert_memory_equal(line + n_hit, ",-1,", 4);
-        /* the counts, as the pixel holds them */
+        /* the counts, as the pixel holds them, then the delay: nan except on a
+         * disc or sphere hit, where it reads back exactly */
+        {
+            char *last = strrchr(line, ',');
+            assert_non_null(last);
+            if (px[i].outcome == CR_OUT_DISC || px[i].outcome == CR_OUT_SPHERE)
+                assert_true(strtod(last + 1, NULL) == px[i].delay);
+            else
+                assert_string_equal(last, ",nan\n");
+            last[0] = '\n';
+            last[1] = '\0';
+        }
         snprintf(counts, sizeof counts, ",%d,%d\n", px[i].order, px[i].theta_turns);
         assert_true(strlen(line) > strlen(counts));
         assert_string_equal(line + strlen(line) - strlen(counts), counts);
@@ -776,6 +788,7 @@ static void test_csv_shortest(void **state)
     px[0].steps = 17;
     px[0].order = 2;
     px[0].theta_turns = 1;
+    px[0].delay = -1.0; /* a delay may be -1: only nan means none */
     px[1].order = -1;
     px[1].outcome = CR_OUT_SKY;
     px[1].redshift = -0.0;
@@ -785,11 +798,11 @@ static void test_csv_shortest(void **state)
     join(path, f, "d_0.csv");
     t = read_all(path, NULL);
     assert_string_equal(t, "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,"
-                           "bolometric,order,theta_turns\n"
+                           "bolometric,order,theta_turns,delay\n"
                            "0,0,0,0,0,17,0.1,1e-05,0.6666666666666666,disc,6.02214076e+23,"
-                           "5e-324,0.3,2,1\n"
+                           "5e-324,0.3,2,1,-1\n"
                            "1,0,0,0,0,0,-0,1.2345678901234568e+17,10000000000000000,sky,-1,-1,"
-                           "-1,-1,0\n");
+                           "-1,-1,0,nan\n");
     free(t);
 }
 
@@ -935,7 +948,7 @@ static void test_stats(void **state)
         q[1].redshift = 0.5; /* whatever it holds, the CSV says undefined */
         v = cr_pixel_csv_values(&q[1]);
         assert_true(v.redshift == -1.0 && v.hit_r == -1.0 && v.hit_phi == -1.0 &&
-                    v.bolometric == -1.0);
+                    v.bolometric == -1.0 && v.delay != v.delay);
         c = cr_redshift_color(&q[1]);
         assert_true(c.r == 0 && c.g == 0 && c.b == 0);
     }

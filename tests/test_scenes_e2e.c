@@ -174,7 +174,7 @@ static csv_row *read_csv(const char *path)
     assert_non_null(fgets(line, sizeof line, fp));
     assert_string_equal(line,
                         "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,"
-                        "bolometric,order,theta_turns\n");
+                        "bolometric,order,theta_turns,delay\n");
     while (fgets(line, sizeof line, fp)) {
         csv_row *r;
         if (i >= NPX)

@@ -122,7 +122,7 @@ def _common(scene, width, height, frame, frames, config, others="frame, frames")
 
 _DTYPES = {"rgb": "u1", "redshift": "=f8", "outcome": "u1", "steps": "=u4", "err_mean": "=f8",
            "err_std": "=f8", "hit_r": "=f8", "hit_phi": "=f8", "bolometric": "=f8",
-           "object": "=i2", "order": "=i2", "theta_turns": "=i2"}
+           "object": "=i2", "order": "=i2", "theta_turns": "=i2", "delay": "=f8"}
 
 
 def backend_info():
@@ -159,7 +159,9 @@ def render(scene, width, height, frame=0, frames=1, backend="auto", **config):
     bottom, -1); order, theta_turns int16 (the image order: equator
     crossings before the hit, or before the ray's end without one, and polar
     turning points before the same point; -1 where no ray was traced to an
-    end, as in the CSV).
+    end, as in the CSV); delay float64 (the coordinate-time delay t_obs - t
+    of a disc or sphere hit, renormalised for the observer at infinity; NaN
+    otherwise, as the CSV's nan).
     Raises ValueError with the command line's message on bad input,
     MemoryError when the frame's arrays cannot fit in memory, and
     KeyboardInterrupt (the render stopped within about 0.25 s) on Ctrl-C.

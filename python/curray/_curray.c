@@ -107,14 +107,15 @@ static char *render_kw[] = {"scene", "is_path", "name", "config", "width", "heig
 
 /* The arrays of _render, by name: element size; filled by cr_py_fill. */
 enum { CR_A_RGB, CR_A_REDSHIFT, CR_A_OUTCOME, CR_A_STEPS, CR_A_ERR_MEAN, CR_A_ERR_STD,
-       CR_A_HIT_R, CR_A_HIT_PHI, CR_A_BOLO, CR_A_OBJECT, CR_A_ORDER, CR_A_THTURNS, CR_A_N };
+       CR_A_HIT_R, CR_A_HIT_PHI, CR_A_BOLO, CR_A_OBJECT, CR_A_ORDER, CR_A_THTURNS, CR_A_DELAY, CR_A_N };
 static const struct {
     const char *name;
     size_t size;
 } cr_py_arrays[CR_A_N] = {{"rgb", 3},        {"redshift", 8}, {"outcome", 1},
                           {"steps", 4},      {"err_mean", 8}, {"err_std", 8},
                           {"hit_r", 8},      {"hit_phi", 8},  {"bolometric", 8},
-                          {"object", 2},     {"order", 2},    {"theta_turns", 2}};
+                          {"object", 2},     {"order", 2},    {"theta_turns", 2},
+                          {"delay", 8}};
 
 /* One pass from the pixels to the arrays, with the CSV's values
  * (cr_pixel_csv_values: -1 where the CSV writes -1). */
@@ -138,6 +139,7 @@ static void cr_py_fill(const cr_pixel *px, size_t n, char **a)
         ((int16_t *)a[CR_A_OBJECT])[i] = q->object;
         ((int16_t *)a[CR_A_ORDER])[i] = (int16_t)v.order;
         ((int16_t *)a[CR_A_THTURNS])[i] = (int16_t)v.theta_turns;
+        ((double *)a[CR_A_DELAY])[i] = v.delay;
     }
 }
 

@@ -297,6 +297,7 @@ CR_HD static inline void cr_camera_ray_at_infinity(const cr_frame *f, double alp
     eta = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - L * L -
           f->metric.a * f->metric.a * ct * ct;
     cr_mino_init(c, &f->metric, 1.0, L, eta, f->w_stop);
+    cr_mino_t_start(c, y);
 }
 
 #endif

@@ -254,6 +254,11 @@ typedef struct cr_frame {
                              w = 1/r <= w_sky; 0 (at infinity) when the sky
                              image has no boundary or the observer is at
                              infinity, else 1 / r_max as for RK4 */
+    double w_obj;         /* CR_INTEG_MINO: 1 / (the largest BL radius an
+                             object of the scene reaches: disc r_out, sphere
+                             extents), INFINITY with none; a ray moving
+                             outward at w < w_obj meets nothing more, so its
+                             time is not needed (ray.h) */
     int obs_at_inf;       /* observer.r is +INFINITY */
     double obs_sqrt_mgtt; /* sqrt(-g_tt) at the static observer; 1/u^t of a
                              moving one (camera.h) */
@@ -282,7 +287,7 @@ typedef struct cr_frame {
  * face for CR_OUT_DISC, -1 otherwise. hit_r, hit_phi: the BL radius (units
  * of M) and azimuth (radians, in [0, 2 pi)) of the point where the ray hit
  * the disc or a sphere, located inside the step as the colour is; -1 (never a
- * valid value of either) for every other outcome. 64 bytes. */
+ * valid value of either) for every other outcome. 72 bytes. */
 typedef struct cr_pixel {
     double redshift;
     double err_mean, err_std;
@@ -290,6 +295,9 @@ typedef struct cr_pixel {
     double bolo; /* Keplerian disc hits: the bolometric brightness g^4 F(r) /
                     F_max (cr_bolometric; F_max the disc's peak flux), 0 on
                     plunging matter; -1 for every other outcome or disc */
+    double delay; /* disc and sphere hits: the coordinate-time delay t_obs - t
+                     of the light from the hit (cr_ray_delay; renormalised for
+                     the observer at infinity); NaN for every other outcome */
     uint32_t steps;
     int16_t object;
     /* the image order: equator crossings (theta = pi/2) before the hit, or

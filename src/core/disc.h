@@ -148,7 +148,7 @@ CR_HD static inline int cr_disc_event(const cr_frame *f, const cr_ray *ray, cr_h
     return 0;
 }
 
-/* Shade a disc hit h: outcome, face, hit radius and azimuth, and the colour
+/* Shade a disc hit h: outcome, face, hit radius and azimuth, delay, and the colour
  * and frequency ratio of the disc's model there: the Keplerian disc's
  * matter (and its bolometric brightness), or the chessboard seen as a
  * static source (6.9). */
@@ -162,6 +162,7 @@ CR_HD static inline void cr_disc_shade(const cr_frame *f, const cr_ray *ray, con
     px->object = (int16_t)side;
     px->hit_r = rr;
     px->hit_phi = cr_wrap_2pi(ph);
+    px->delay = cr_ray_delay_at(ray, h->s, h->y);
     cr_ray_momentum(ray, h->y, p);
     if (f->disc.model == CR_DISC_KEPLERIAN) {
         px->redshift = cr_disc_keplerian_g(f, ray->p_obs, p, rr);

@@ -57,21 +57,24 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
      * direction at the boundary (6.10), so the observer and the boundary
      * count there. */
     int plain = !f->sky.rgb;
-    double rm = at_inf || plain ? 0.0 : f->observer.r;
+    double rm = at_inf || plain ? 0.0 : f->observer.r, ro = 0.0;
     int k;
     f->r_stop = cr_metric_r_plus(&f->metric) + f->horizon_epsilon;
     f->w_stop = 1.0 / f->r_stop;
     /* from inside the horizon: where rays bound for the other side end */
     f->w_other = 1.0 / (cr_metric_r_plus(&f->metric) - f->horizon_epsilon);
-    if (f->disc.enabled && f->disc.r_out > rm)
-        rm = f->disc.r_out;
+    if (f->disc.enabled)
+        ro = f->disc.r_out;
     for (k = 0; k < f->n_spheres; k++) {
         const double *c = f->spheres[k].center;
         /* Cartesian distance bounds BL r from above: |x|^2 = r^2 + a^2 sin^2 */
         double ext = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + f->spheres[k].radius;
-        if (ext > rm)
-            rm = ext;
+        if (ext > ro)
+            ro = ext;
     }
+    f->w_obj = ro > 0.0 ? 1.0 / ro : INFINITY;
+    if (ro > rm)
+        rm = ro;
     rm += f->metric.m;
     if (rm < CR_MIN_R_MAX_OVER_M * f->metric.m)
         rm = CR_MIN_R_MAX_OVER_M * f->metric.m;

@@ -33,7 +33,35 @@
  * The same state and right-hand side carry a massive, charged particle
  * (particle.h): its R gains an r^3 term (c3), a^2 E^2 becomes a^2 (E^2 - 1)
  * and p1 a charge term; the DP5 below integrates both.
- * Coordinate time t (which diverges at w = 0) is not integrated.
+ *
+ * Coordinate time. dt/dtau = -(r^2+a^2) P/Delta + a (L + a E sin^2) (the
+ * backward ray: t decreases along it) diverges like -E/w^2 - 2ME/w at w = 0,
+ * so t itself is not a state component. The component T is regular:
+ *   t = T + S - 2M ln w,  S = (dw/dtau) / (E w)  (~ +-r far out),
+ * and with dS/dtau = -E/w^2 + (c1 w/2 + c0 w^2)/E on the ray ((dw/dtau)^2 =
+ * W), dT/dtau = a (L + aE) - a^2 E n_z^2 - (c1 w/2 + c0 w^2)/E
+ *   + (2ME (d1 + d2 w) - (t1 + t3 w^2)) / D + 2M (dw/dtau - E) / w,
+ * t1 = a^2 E + a L - E Q^2, t3 = a^3 (aE + L). The last term is written
+ *   2M w (c2 + c1 w + c0 w^2) / (E + dw/dtau)   while dw/dtau >= E/2 (inward),
+ * regular at w = 0 where the ray comes from infinity, as it stands for
+ * dw/dtau <= -E/2 (outward), and in between as the first form plus
+ * (1/2 - (dw/dtau)/E) times the difference of the two, 2M ((dw/dtau)^2 -
+ * W) / (w (E + dw/dtau)) (0 on the exact ray): continuous however far the
+ * state is off its first integral. T enters no error estimate (the
+ * steps are those of the other components); where its own estimate says a
+ * step did not resolve it (cr_mino_t_unresolved: near-radial rays, whose
+ * other components are nearly polynomial, or steps into the horizon's 1/D)
+ * its increment is recomputed by quadrature on the dense output
+ * (cr_mino_t_quad), which also gives T inside a step.
+ * The time is the delay t_obs - t (cr_mino_delay): at a static observer
+ * t_obs = 0 (T starts at -S + 2M ln w_0); for the observer at infinity (T
+ * starts at 0, E = 1) it is the delay renormalised as
+ *   lim_{r_o -> inf} [t_o - t - r_o - 2M ln(r_o / M)]
+ * (the divergent terms r_o + 2M ln r_o dropped, as Gralla & Lupsasca 2020
+ * and AART, Cardenas-Avendano, Johnson & Lupsasca 2022, do), since near the
+ * start S - r -> 0. t diverges at the horizon (1/D; D is clamped beyond the
+ * stop): rays that end there report no time. T is light's (c3 = 0,
+ * E^2 - W as above); particle.h integrates a particle's t itself.
  *
  * Conserved-quantity monitor (cr_mino_monitor): the larger of
  * |(dw/dtau)^2 - W(w)| and |(dn_z/dtau)^2 - Th(n_z)|, each divided by the sum
@@ -56,8 +84,12 @@ enum {
     CR_M_DNY,
     CR_M_DNZ,
     CR_M_PR, /* phi - atan2(n_y, n_x) */
+    CR_M_T,  /* t - S + 2M ln w (coordinate time, above) */
     CR_MN
 };
+
+/* The components in the step's error estimate: all but T. */
+#define CR_M_NERR ((int)CR_M_T)
 
 /* Charts of the azimuth pr (cr_mino.chart). */
 enum { CR_CHART_BL = 0, CR_CHART_INGOING = 1 };
@@ -85,6 +117,30 @@ enum { CR_CHART_BL = 0, CR_CHART_INGOING = 1 };
 #undef CR_LSQRT
 #undef CR_LBC
 
+/* BL time t at state y (w > 0), relative to the observer's: T + S - 2M ln w
+ * (top of this file). */
+CR_HD static inline double cr_mino_t(const cr_mino *c, const double *y)
+{
+    double w = y[CR_M_W];
+    return y[CR_M_T] + y[CR_M_DW] / (c->E * w) - 2.0 * c->m * log(w);
+}
+
+/* The coordinate-time delay t_obs - t of state y (the emission time before
+ * the observer's; renormalised at infinity, top of this file). */
+CR_HD static inline double cr_mino_delay(const cr_mino *c, const double *y)
+{
+    return -cr_mino_t(c, y);
+}
+
+/* Start T of a state whose other components are set: t = 0 at a
+ * state with w > 0 (a static observer), the renormalised start at w = 0
+ * (the observer at infinity). */
+CR_HD static inline void cr_mino_t_start(const cr_mino *c, double *y)
+{
+    double w = y[CR_M_W];
+    y[CR_M_T] = w > 0.0 ? -y[CR_M_DW] / (c->E * w) + 2.0 * c->m * log(w) : 0.0;
+}
+
 /* Fill the coefficients for constants (E, L, eta) on metric mt; w_stop =
  * 1/(r+ + epsilon) is where rays end at the horizon. */
 CR_HD static inline void cr_mino_init(cr_mino *c, const cr_metric *mt, double E, double L,
@@ -105,6 +161,14 @@ CR_HD static inline void cr_mino_init(cr_mino *c, const cr_metric *mt, double E,
     c->c0 = a * a * aEL * aEL - (a * a + Q2) * C;
     c->kap = eta + L * L;
     c->a2E2 = a * a * E * E;
+    c->m = M;
+    c->tc = a * aEL;
+    c->ta = a * a * E;
+    c->tg1 = 0.5 * c->c1 / E;
+    c->tg2 = c->c0 / E;
+    c->td1 = -4.0 * M * M * E - (a * a * E + a * L - E * Q2);
+    c->td2 = 2.0 * M * E * (a * a + Q2);
+    c->t3 = a * a * a * aEL;
     c->p1 = -2.0 * M * E;
     c->p2 = E * Q2 - a * L;
     c->d1 = -2.0 * M;
@@ -212,6 +276,7 @@ CR_HD static inline void cr_mino_from_bl(const cr_geo *g, const double *yb, doub
     y[CR_M_DNZ] = -vth * st;
     y[CR_M_PR] = 0.0;
     cr_mino_init(c, &g->mt, g->E, g->L, cr_geo_carter(g, yb), w_stop);
+    cr_mino_t_start(c, y);
 }
 
 /* ---- Dormand-Prince 5(4) ------------------------------------------------ */
@@ -236,6 +301,57 @@ CR_HD static inline void cr_dp5_dense(const cr_dp5 *st, const double *y0, const 
                          d6 * k[5][i] + d7 * k[6][i]);
         ys[i] = y0[i] + s * (dy + s1 * (bs + s * (r4 + s1 * r5)));
     }
+}
+
+/* Error estimate of component i in the last step (cr_dp5_try's). */
+CR_HD static inline double cr_dp5_err_of(const cr_dp5 *st, double h, int i)
+{
+    const double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
+                 e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
+    const double (*k)[CR_MN] = st->k;
+    return h * (e1 * k[0][i] + e3 * k[2][i] + e4 * k[3][i] + e5 * k[4][i] + e6 * k[5][i] +
+                e7 * k[6][i]);
+}
+
+/* Whether the last step y0 -> y1 of size h left T unresolved: its error
+ * estimate above tol (1 + (|T(y0)| + |T(y1)|)/2), the tolerance relative to
+ * the scale of the time (T ~ -r_o from a static observer at r_o). */
+CR_HD static inline int cr_mino_t_unresolved(const cr_dp5 *st, const double *y0,
+                                             const double *y1, double h, double tol)
+{
+    double e = cr_dp5_err_of(st, h, CR_M_T);
+    return !(fabs(e) <= tol * (1.0 + 0.5 * (fabs(y0[CR_M_T]) + fabs(y1[CR_M_T]))));
+}
+
+/* T at fraction s of the last step y0 -> y1 of size h: T(y0) plus the
+ * integral of dT/dtau over the dense output (cr_dp5_dense), by 5-point
+ * Gauss-Legendre on 2, 4, 8, ... panels until two agree to 1e-13 (1 +
+ * |integral|) (at most 64 panels). */
+CR_HD static inline double cr_mino_t_quad(const cr_mino *c, const cr_dp5 *st, const double *y0,
+                                          const double *y1, double h, double s)
+{
+    const double x5[3] = {0.0, 0.5384693101056831, 0.9061798459386640};
+    const double w5[3] = {0.5688888888888889, 0.4786286704993665, 0.2369268850561891};
+    double prev = 0.0, q = 0.0, ys[CR_MN];
+    int n, p, k;
+    for (n = 2; n <= 64; n *= 2) {
+        double ph = s / n;
+        q = 0.0;
+        for (p = 0; p < n; p++) {
+            double mid = (p + 0.5) * ph;
+            for (k = 0; k < 5; k++) {
+                int j = k < 3 ? k : k - 2;
+                double x = k < 3 ? x5[k] : -x5[j];
+                cr_dp5_dense(st, y0, y1, h, mid + 0.5 * ph * x, ys);
+                q += w5[j] * cr_mino_dT(c, ys);
+            }
+        }
+        q *= 0.5 * ph * h;
+        if (n > 2 && fabs(q - prev) <= 1e-13 * (1.0 + fabs(q)))
+            break;
+        prev = q;
+    }
+    return y0[CR_M_T] + q;
 }
 
 /* A first trial step: a small fraction of the time scale of the angular

@@ -54,6 +54,10 @@ typedef struct CR_LN(cr_mino) {
     CR_L chart;
     CR_L K;  /* eta + (L + a E)^2: R = P^2 - Delta K */
     CR_L pa; /* w^2 P(1/w) = E + pa w^2 */
+    /* coordinate time (mino.h): dT/dtau = tc - ta nz^2 - w (tg1 + tg2 w)
+     *   + (td1 + td2 w - t3 w^2) / D + the 2M term */
+    CR_L m; /* M */
+    CR_L tc, ta, tg1, tg2, td1, td2, t3;
 } CR_LN(cr_mino);
 
 /* W(w) = w^4 R(1/w). */
@@ -93,6 +97,28 @@ CR_LHD static inline CR_L CR_LN(cr_mino_ingoing_q)(const CR_LN(cr_mino) *c, cons
                    sum / (w * w * (1.0 + w * (c->d1 + c->d2 * w))));
 }
 
+/* dT/dtau at state y (mino.h's coordinate time). The 2M term: inward
+ * (dw/dtau >= E/2) 2M w (c2 + c1 w + c0 w^2) / (E + dw/dtau), outward
+ * (<= -E/2) 2M (dw/dtau - E) / w, between them the first plus (1/2 -
+ * (dw/dtau)/E) times the difference, so it is continuous off the first
+ * integral; one division over the selected numerator and denominator. */
+CR_LHD static inline CR_L CR_LN(cr_mino_dT)(const CR_LN(cr_mino) *c, const CR_L *y)
+{
+    CR_L w = y[CR_M_W], nz = y[CR_M_NZ], dw = y[CR_M_DW];
+    CR_L D = 1.0 + w * (c->d1 + c->d2 * w);
+    CR_L m2 = 2.0 * c->m, poly = w * (c->c2 + w * (c->c1 + w * c->c0));
+    CR_LM in = dw >= 0.5 * c->E, mid = dw > -0.5 * c->E;
+    CR_L num = CR_LSEL(in, m2 * poly,
+                       CR_LSEL(mid,
+                               m2 * (w * poly + (0.5 - dw / c->E) *
+                                                    (dw * dw - CR_LN(cr_mino_W)(c, w))),
+                               m2 * (dw - c->E)));
+    CR_L den = CR_LSEL(in, c->E + dw, CR_LSEL(mid, w * (c->E + dw), w));
+    D = CR_LSEL(D < c->d_min, c->d_min, D);
+    return c->tc - c->ta * nz * nz - w * (c->tg1 + c->tg2 * w) +
+           ((c->td1 + w * (c->td2 - c->t3 * w)) * den + num * D) / (D * den);
+}
+
 /* Right-hand side dy/dtau. */
 CR_LHD static inline void CR_LN(cr_mino_rhs)(const CR_LN(cr_mino) *c, const CR_L *y, CR_L *dy)
 {
@@ -111,6 +137,7 @@ CR_LHD static inline void CR_LN(cr_mino_rhs)(const CR_LN(cr_mino) *c, const CR_L
     dy[CR_M_PR] = CR_LSEL(c->chart == CR_CHART_INGOING,
                           c->a * (c->E - w * w * CR_LN(cr_mino_ingoing_q)(c, y)),
                           c->a * w * (c->p1 + c->p2 * w) / D);
+    dy[CR_M_T] = CR_LN(cr_mino_dT)(c, y);
 }
 
 /* The conserved-quantity monitor described at the top of mino.h. */
@@ -138,7 +165,8 @@ typedef struct CR_LN(cr_dp5) {
  * stages and y1, and returns the error estimate scaled by the tolerance
  * (accept when <= 1; NaN or INFINITY when the step failed). Error scales per
  * component: w relative (floor 1e-3), dw/dtau to E, n absolute, dn/dtau to
- * omega, pr absolute; the largest ratio counts. */
+ * omega, pr absolute; the largest ratio counts. T (coordinate time) is
+ * stepped but not estimated (CR_M_NERR). */
 CR_LHD static inline CR_L CR_LN(cr_dp5_try)(const CR_LN(cr_mino) *c, double tol, CR_L h,
                                             const CR_L *y0, CR_LN(cr_dp5) *st, CR_L *y1)
 {
@@ -191,7 +219,7 @@ CR_LHD static inline CR_L CR_LN(cr_dp5_try)(const CR_LN(cr_mino) *c, double tol,
         sc[CR_M_DW] = itol / (CR_LABS(c->E) + CR_LSEL(d0 > d1, d0, d1));
         sc[CR_M_DNX] = sc[CR_M_DNY] = sc[CR_M_DNZ] = itol / c->omega;
     }
-    for (i = 0; i < CR_MN; i++) {
+    for (i = 0; i < CR_M_NERR; i++) {
         CR_L e = h * (e1 * k[0][i] + e3 * k[2][i] + e4 * k[3][i] + e5 * k[4][i] +
                       e6 * k[5][i] + e7 * k[6][i]);
         CR_L r = CR_LABS(e) * sc[i];

@@ -287,6 +287,7 @@ CR_HD static inline void cr_particle_state_(cr_particle *p, double r, double th,
     y[CR_M_DNY] = vth * ct * sp + vph * cp;
     y[CR_M_DNZ] = -vth * st;
     y[CR_M_PR] = 0.0;
+    y[CR_M_T] = 0.0; /* light's time (mino.h), stepped but unused here */
 }
 
 /* Start a worldline at coordinate time t0, BL (r, th, ph), with 4-velocity

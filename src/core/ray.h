@@ -71,6 +71,7 @@ typedef struct cr_ray {
     cr_dp5 st;     /* stages; st.k[0] = f(m) */
     double hm;     /* the current step */
     double h_next; /* the next trial step */
+    int t_quad;    /* the current step's T is by quadrature (cr_mino_t_quad) */
     /* Path recorder (cr_path, path.h): NULL except when one ray's path is
      * wanted (--trace, curray.trace); set by the ray's maker to NULL. */
     struct cr_path *path;
@@ -141,6 +142,34 @@ CR_HD static inline double cr_ray_step_length(const cr_ray *ray)
 CR_HD static inline int cr_ray_has_t(const cr_ray *ray)
 {
     return ray->kind != CR_INTEG_MINO;
+}
+
+/* The coordinate-time delay t_obs - t of state y of the ray's integrator:
+ * the time the light at y takes to reach the observer. RK4 integrates t
+ * (t = 0 at the observer); Mino carries it regularised (mino.h), and for the
+ * observer at infinity gives it renormalised, lim [t_o - t - r_o - 2M
+ * ln(r_o/M)] as r_o -> infinity. Meaningless beyond the horizon stop; NaN
+ * for a ray in the ingoing chart (BL t is not a coordinate there). */
+CR_HD static inline double cr_ray_delay(const cr_ray *ray, const double *y)
+{
+    if (ray->kind != CR_INTEG_MINO)
+        return -y[CR_Y_T];
+    return ray->c.chart == CR_CHART_BL ? cr_mino_delay(&ray->c, y) : NAN;
+}
+
+/* The delay at state ys = cr_ray_state_at(ray, s) of the current step; under
+ * Mino T there by quadrature when the step did not resolve it. */
+CR_HD static inline double cr_ray_delay_at(const cr_ray *ray, double s, const double *ys)
+{
+    if (ray->kind == CR_INTEG_MINO && ray->t_quad) {
+        double y[CR_MN];
+        int i;
+        for (i = 0; i < CR_MN; i++)
+            y[i] = ys[i];
+        y[CR_M_T] = cr_mino_t_quad(&ray->c, &ray->st, ray->m, ray->m1, ray->hm, s);
+        return cr_ray_delay(ray, y);
+    }
+    return cr_ray_delay(ray, ys);
 }
 
 /* Whether one step may cross much of the scene, its fraction not
@@ -404,6 +433,7 @@ CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
         ray->m[CR_M_NZ] = 0.0;
     cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
     ray->h_next = cr_mino_first_step(&ray->c, f->tolerance);
+    ray->t_quad = 0;
     cr_ray_momentum(ray, ray->m, ray->p_obs);
 }
 
@@ -512,6 +542,19 @@ CR_HD static inline int cr_ray_misses_scene(const cr_frame *f, const cr_ray *ray
 /* Rejected DP5 tries of one step before the ray ends as an error. */
 #define CR_DP5_MAX_RETRIES 60
 
+/* After an accepted Mino step: T where its own estimate says the step did
+ * not resolve it, by quadrature on the dense output (mino.h), wherever the
+ * time can still be needed (not moving outward beyond every object,
+ * cr_frame.w_obj). The scalar and the packet path (render/cpu_packet.c)
+ * both call it. */
+CR_HD static inline void cr_ray_time_step(const cr_frame *f, cr_ray *ray)
+{
+    ray->t_quad = !(ray->m1[CR_M_DW] < 0.0 && ray->m1[CR_M_W] < f->w_obj) &&
+                  cr_mino_t_unresolved(&ray->st, ray->m, ray->m1, ray->hm, f->tolerance);
+    if (ray->t_quad)
+        ray->m1[CR_M_T] = cr_mino_t_quad(&ray->c, &ray->st, ray->m, ray->m1, ray->hm, 1.0);
+}
+
 /* One step from the current state to y1 / m1. Returns 0, or -1 when the
  * integration failed (non-finite state, step size collapsed). In the
  * ingoing chart a step that passes w_exit is taken again, shortened to end
@@ -549,6 +592,7 @@ CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
                 }
                 ray->exit_step = cut;
                 ray->h_next = cut ? ray->h_next : h_next;
+                cr_ray_time_step(f, ray);
                 return 0;
             }
             cut = 0;

@@ -217,7 +217,7 @@ CR_HD static inline int cr_sphere_event(const cr_frame *f, const cr_ray *ray, do
     return hit;
 }
 
-/* Shade a sphere hit h: outcome, sphere index, hit radius and azimuth, the
+/* Shade a sphere hit h: outcome, sphere index, hit radius and azimuth, delay, the
  * chessboard colour there and the redshift of a static source (6.9). */
 CR_HD static inline void cr_sphere_shade(const cr_frame *f, const cr_ray *ray, const cr_hit *h,
                                          cr_pixel *px)
@@ -229,6 +229,7 @@ CR_HD static inline void cr_sphere_shade(const cr_frame *f, const cr_ray *ray, c
     px->object = (int16_t)h->index;
     px->hit_r = rr;
     px->hit_phi = cr_wrap_2pi(ph);
+    px->delay = cr_ray_delay_at(ray, h->s, h->y);
     px->color = cr_sphere_color(&f->spheres[h->index], xs);
     cr_ray_momentum(ray, h->y, p);
     px->redshift = cr_redshift_static(f, ray->p_obs, p, rr, th);

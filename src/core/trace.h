@@ -49,6 +49,7 @@ CR_HD static inline void cr_trace_start(const cr_frame *f, cr_ray *ray, cr_pixel
     px->redshift = -1.0;
     px->hit_r = px->hit_phi = -1.0;
     px->bolo = -1.0;
+    px->delay = NAN;
     px->object = -1;
     px->order = px->theta_turns = -1;
     px->outcome = CR_OUT_NONE;
@@ -256,6 +257,7 @@ CR_HD static inline int cr_trace_point_ray(const cr_frame *f, double x, double y
     cr_geo g;
     if (!cr_camera_in_image(f, x, y)) {
         px->redshift = px->hit_r = px->hit_phi = px->bolo = -1.0;
+        px->delay = NAN;
         px->err_mean = px->err_std = 0.0;
         px->steps = 0;
         px->object = -1;

@@ -83,7 +83,7 @@ int cr_fits_available(cr_err *err)
 
 /* Quantities of the image extensions. */
 enum { CR_F_REDSHIFT, CR_F_HIT_R, CR_F_HIT_PHI, CR_F_BOLO, CR_F_OUTCOME, CR_F_STEPS, CR_F_ERR,
-       CR_F_STD, CR_F_ORDER, CR_F_THTURNS, CR_F_N };
+       CR_F_STD, CR_F_ORDER, CR_F_THTURNS, CR_F_DELAY, CR_F_N };
 
 static const struct {
     const char *name, *unit, *comment;
@@ -98,6 +98,7 @@ static const struct {
     {"NULLSTD", "", "standard deviation of the error monitor"},
     {"ORDER", "", "equator crossings before the hit or end; -1: none"},
     {"THTURNS", "", "polar turning points before it; -1: none"},
+    {"DELAY", "M", "coordinate-time delay of the hit; NaN: none"},
 };
 
 /* Value of quantity q at pixel p, the CSV's (cr_pixel_csv_values), NaN
@@ -112,6 +113,7 @@ static double cr_fits_value(int q, const cr_pixel *p)
     case CR_F_HIT_PHI: x = v.hit_phi; break;
     case CR_F_BOLO: x = v.bolometric; break;
     case CR_F_ERR: return p->err_mean;
+    case CR_F_DELAY: return v.delay;
     default: return p->err_std;
     }
     return x == -1.0 ? NAN : x;

@@ -196,7 +196,7 @@ static char *cr_put_double(char *p, double v)
     return p + cr_shortest_double(p, v);
 }
 
-static const char *const cr_csv_header = "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric,order,theta_turns\n";
+static const char *const cr_csv_header = "x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric,order,theta_turns,delay\n";
 
 int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, int h,
                          cr_err *err)
@@ -243,6 +243,13 @@ int cr_output_csv_stream(FILE *fp, const char *name, const cr_pixel *px, int w, 
             p = cr_put_int(p, v.order);
             *p++ = ',';
             p = cr_put_int(p, v.theta_turns);
+            *p++ = ',';
+            if (v.delay == v.delay) {
+                p = cr_put_double(p, v.delay);
+            } else {
+                memcpy(p, "nan", 3);
+                p += 3;
+            }
             *p++ = '\n';
             fwrite(line, 1, (size_t)(p - line), fp);
         }

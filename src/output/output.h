@@ -39,11 +39,13 @@ cr_rgb cr_order_color(const cr_pixel *p);
 /* The CSV's floating-point values of one pixel, -1 where the CSV writes
  * "undefined": redshift where no source was reached (outcome none, error,
  * limit or outside, or a NaN ratio); hit_r, hit_phi unless the ray hit the disc or a
- * sphere; bolometric unless it hit a Keplerian disc (cr_pixel.bolo >= 0).
+ * sphere; bolometric unless it hit a Keplerian disc (cr_pixel.bolo >= 0);
+ * delay (cr_pixel.delay) on a disc or sphere hit, NaN otherwise (a delay may
+ * be -1: the CSV writes nan).
  * The one definition of these columns for the CSV, the FITS file (fits.h)
  * and the Python arrays. */
 typedef struct cr_pixel_values {
-    double redshift, hit_r, hit_phi, bolometric;
+    double redshift, hit_r, hit_phi, bolometric, delay;
     int order, theta_turns; /* cr_pixel's: -1 where no ray was traced to an
                                end (outcome none, outside, error) */
 } cr_pixel_values;
@@ -65,6 +67,7 @@ static inline cr_pixel_values cr_pixel_csv_values(const cr_pixel *q)
     v.bolometric = q->outcome == CR_OUT_DISC && q->bolo >= 0.0 ? q->bolo : -1.0;
     v.order = q->order;
     v.theta_turns = q->theta_turns;
+    v.delay = hit ? q->delay : NAN;
     return v;
 }
 
@@ -79,12 +82,14 @@ int cr_output_bolometric_png(const char *dir, int k, const cr_pixel *px, int w, 
                              cr_err *err);
 /* CSV columns (6.11), one row per pixel, header line first:
  * x,y,r,g,b,steps,redshift,err_mean,err_std,outcome,hit_r,hit_phi,bolometric,
- * order,theta_turns
+ * order,theta_turns,delay
  * (x, y pixel coordinates from the top-left; redshift -1 where undefined;
  * outcome as the word horizon/disc/sphere/sky/error/limit/outside; hit_r, hit_phi
  * the disc or sphere hit point, -1 otherwise; bolometric g^4 F / F_max on a
  * Keplerian disc hit, -1 otherwise; order and theta_turns the image order
- * and polar turning points (cr_pixel), -1 where no ray was traced to an end). Every number is the shortest text that
+ * and polar turning points (cr_pixel), -1 where no ray was traced to an end;
+ * delay the coordinate-time delay t_obs - t of a disc or sphere hit, nan
+ * otherwise). Every number is the shortest text that
  * reads back as the same double (cr_shortest_double, base/shortest.h). */
 int cr_output_csv(const char *dir, int k, const cr_pixel *px, int w, int h, cr_err *err);
 /* The same CSV text written to an open stream, then flushed and checked

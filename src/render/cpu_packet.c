@@ -69,6 +69,36 @@ static void pk_scatter_step(pk_packet *p, int l)
     r->hm = p->h[l];
 }
 
+/* cr_ray_time_step (ray.h) for lane l's accepted step: the same test on
+ * the lane's values (cr_mino_t_unresolved's estimate, term for term), and
+ * only where it holds the step copied out for the quadrature. */
+static void pk_time_step(const cr_frame *f, pk_packet *p, int l)
+{
+    cr_ray *r = &p->lane[l].ray;
+    cr_dp5 st;
+    double y0[CR_MN], y1[CR_MN];
+    int k, s;
+    r->t_quad = 0;
+    if (p->m1[CR_M_DW][l] < 0.0 && p->m1[CR_M_W][l] < f->w_obj)
+        return;
+    for (s = 0; s < 7; s++)
+        st.k[s][CR_M_T] = p->st.k[s][CR_M_T][l];
+    y0[CR_M_T] = p->m[CR_M_T][l];
+    y1[CR_M_T] = p->m1[CR_M_T][l];
+    if (!cr_mino_t_unresolved(&st, y0, y1, p->h[l], f->tolerance))
+        return;
+    for (k = 0; k < CR_MN; k++) {
+        r->m[k] = p->m[k][l];
+        r->m1[k] = p->m1[k][l];
+        for (s = 0; s < 7; s++)
+            r->st.k[s][k] = p->st.k[s][k][l];
+    }
+    r->hm = p->h[l];
+    r->t_quad = 1;
+    r->m1[CR_M_T] = cr_mino_t_quad(&r->c, &r->st, r->m, r->m1, r->hm, 1.0);
+    p->m1[CR_M_T][l] = r->m1[CR_M_T];
+}
+
 /* Lane l's state (and the first stage there) from its ray. */
 static void pk_gather_state(pk_packet *p, int l)
 {
@@ -183,6 +213,7 @@ void PK_FN(cr_packet_trace)(const cr_frame *f, const cr_pixel_feed *feed)
             }
             ln->tries = 0;
             ln->steps++;
+            pk_time_step(f, &p, l);
             if (f->n_spheres > 0 || (f->disc.enabled && cross[l])) {
                 double t = p.turns[l];
                 pk_scatter_step(&p, l);

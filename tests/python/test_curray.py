@@ -110,7 +110,7 @@ def test_render_equals_cli_csv(scenes, tmp_path, name, config):
     # to curray.render too)
     col = {h: i for i, h in enumerate(header)}
     known = {"x", "y", "r", "g", "b", "steps", "redshift", "err_mean", "err_std", "outcome",
-             "hit_r", "hit_phi", "bolometric", "order", "theta_turns"}
+             "hit_r", "hit_phi", "bolometric", "order", "theta_turns", "delay"}
     assert set(header) <= known, "CSV columns without a render() array: %s" % (
         set(header) - known)
     assert len(rows) == W * H
@@ -120,8 +120,8 @@ def test_render_equals_cli_csv(scenes, tmp_path, name, config):
     for c, k in (("r", 0), ("g", 1), ("b", 2)):
         assert np.array_equal(a[:, col[c]].astype(int), img["rgb"][y, x, k]), c
     assert np.array_equal(a[:, col["steps"]].astype(np.int64), img["steps"][y, x])
-    for k in ("redshift", "err_mean", "err_std", "hit_r", "hit_phi", "bolometric"):
-        assert np.array_equal(a[:, col[k]].astype(float), img[k][y, x]), k
+    for k in ("redshift", "err_mean", "err_std", "hit_r", "hit_phi", "bolometric", "delay"):
+        assert np.array_equal(a[:, col[k]].astype(float), img[k][y, x], equal_nan=True), k
     for k in ("order", "theta_turns"):
         assert img[k].dtype == np.int16, k
         assert np.array_equal(a[:, col[k]].astype(int), img[k][y, x]), k
@@ -133,7 +133,7 @@ def test_render_dict_equals_file(scenes):
     a = curray.render(KN_DICT, W, H, threads=1)
     b = curray.render(scenes["kn"], W, H, threads=2)
     for k in a:
-        assert np.array_equal(a[k], b[k]), k
+        assert np.array_equal(a[k], b[k], equal_nan=a[k].dtype.kind == "f"), k
     # a scene with every outcome of the tests below
     assert {"disc", "horizon", "sky"} <= {curray.OUTCOMES[o] for o in np.unique(a["outcome"])}
 
@@ -151,7 +151,7 @@ def test_fits(scenes, tmp_path, name):
         with fits.open(tmp_path / ("f_%d.fits" % k)) as hd:
             names = [h.name for h in hd]
             assert names == ["PRIMARY", "REDSHIFT", "HIT_R", "HIT_PHI", "BOLO", "OUTCOME",
-                             "STEPS", "NULLERR", "NULLSTD", "ORDER", "THTURNS"]
+                             "STEPS", "NULLERR", "NULLSTD", "ORDER", "THTURNS", "DELAY"]
             p = hd[0].header
             assert p["METRIC"] == "Kerr-Newman" and p["UNITS"] == "G = c = 1"
             assert p["FRAME"] == k and p["NFRAMES"] == 2 and p["INTEGRAT"] == "mino"
@@ -173,7 +173,7 @@ def test_fits(scenes, tmp_path, name):
                                ("OUTCOME", np.uint8),
                                ("STEPS", np.uint32), ("NULLERR", np.float64),
                                ("NULLSTD", np.float64), ("ORDER", np.int16),
-                               ("THTURNS", np.int16)):
+                               ("THTURNS", np.int16), ("DELAY", np.float64)):
                 d = hd[ext].data
                 assert d.shape == (H, W) and d.dtype.type == dtype, ext  # big-endian
             assert hd["HIT_R"].header["BUNIT"] == "M"
@@ -187,6 +187,8 @@ def test_fits(scenes, tmp_path, name):
             assert np.array_equal(up("STEPS"), grid("steps", np.int64))
             assert np.array_equal(up("NULLERR"), grid("err_mean"))
             assert np.array_equal(up("NULLSTD"), grid("err_std"))
+            assert np.array_equal(up("DELAY"), grid("delay"), equal_nan=True)
+            assert hd["DELAY"].header["BUNIT"] == "M"
             assert np.array_equal(up("ORDER"), grid("order", np.int64))
             assert np.array_equal(up("THTURNS"), grid("theta_turns", np.int64))
             words = np.array(curray.OUTCOMES)[up("OUTCOME")]
@@ -463,7 +465,7 @@ def test_backend_choice_without_gpu(scenes):
     b = curray.render(scenes["kn"], W, H, threads=2, backend="cpu")
     assert a.keys() == b.keys()
     for k in a:
-        assert np.array_equal(a[k], b[k]), k
+        assert np.array_equal(a[k], b[k], equal_nan=a[k].dtype.kind == "f"), k
     with pytest.raises(ValueError) as e:
         curray.render(scenes["kn"], W, H, backend="cuda")
     assert str(e.value) == "backend cuda: " + INFO["why"]
@@ -493,7 +495,8 @@ def test_backend_cuda_equals_cpu(scenes, name):
     gpu = curray.render(scenes[name], w, h, backend="cuda")
     auto = curray.render(scenes[name], w, h)
     for k in gpu:
-        assert np.array_equal(gpu[k], auto[k]), "auto did not pick the GPU: " + k
+        assert np.array_equal(gpu[k], auto[k], equal_nan=gpu[k].dtype.kind == "f"), \
+            "auto did not pick the GPU: " + k
     same = (cpu["outcome"] == gpu["outcome"]) & (cpu["object"] == gpu["object"])
     allowed = int(0.001 * w * h) + 1
     assert (~same).sum() <= allowed, "%d pixels differ in outcome" % (~same).sum()
