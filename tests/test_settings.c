@@ -282,6 +282,8 @@ static void test_refuse_each(void **state)
             assert_contains(err.msg, at);
             assert_memory_equal(&c, &before, sizeof c);
         }
+        if (!s->in_frame)
+            continue; /* a RUN setting is checked where it is read, not by the frame */
         set_invalid(s, &t);
         assert_int_equal(cr_trace_settings_check(&t, msg, sizeof msg), -1);
         snprintf(at, sizeof at, "%s = ", path);
