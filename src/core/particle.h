@@ -151,6 +151,11 @@ CR_HD static inline void cr_particle_coeffs(cr_mino *c, const cr_metric *mt, dou
     c->chart = CR_CHART_BL; /* the ingoing chart (mino.h) is for light only */
     c->K = C;
     c->pa = 0.0;
+    /* mino.h's coordinate-time component T is light's: particles integrate
+     * t and proper time on the dense output instead; its coefficients are
+     * zeroed so the unused T rate reads defined values */
+    c->m = M;
+    c->tc = c->ta = c->tg1 = c->tg2 = c->td1 = c->td2 = c->t3 = 0.0;
     /* the largest |dn/dlambda|^2 = K + L^2 + a^2 (E^2 - 1) u^2 over u */
     om2 = c->kap + (c->a2E2 > 0.0 ? c->a2E2 : 0.0);
     c->omega = sqrt(om2 > 0.0 ? om2 : 0.0);
