@@ -9,14 +9,15 @@
 
 const char cr_raypath_csv_header[] = "param,t,r,theta,phi,x,y,z,ut,ur,utheta,uphi";
 
-/* Whether the image takes pixel (i, j)'s ray as sky without tracing it: from
- * the observer at infinity, with a plain-colour sky, a ray that never comes
- * inside the scene radius 1/w_sky (cr_ray_misses_scene) ends at once, with
- * no step and no point (px: what the loop reported). */
+/* Whether the image takes pixel (i, j)'s ray as sky without tracing it: with
+ * a plain-colour sky, a ray that never comes inside the scene radius 1/w_sky
+ * (cr_ray_misses_scene), or that starts beyond it moving outward, ends at
+ * once, with no step and at most the observer's point (none from the
+ * observer at infinity). px: what the loop reported; n: the points recorded. */
 static int cr_raypath_untraced(const cr_frame *f, const cr_pixel *px, long n)
 {
-    return n == 0 && f->obs_at_inf && px->outcome == CR_OUT_SKY && px->steps == 0 &&
-           !f->sky.rgb && f->w_sky > 0.0;
+    return n <= 1 && px->outcome == CR_OUT_SKY && px->steps == 0 && !f->sky.rgb &&
+           f->w_sky > 0.0;
 }
 
 static int cr_raypath_record(const cr_frame *f, int i, int j, cr_raypath *out, cr_err *err)

@@ -218,11 +218,14 @@ def null_residual(p, a, q):
 
 
 def pixels_by_outcome(img):
-    """One pixel (i, j) per outcome word, the first in row order."""
+    """One pixel (i, j) per outcome word, the first in row order whose ray
+    took steps (a sky ray that never comes inside the scene radius ends
+    without a step; its path is traced again for the path alone)."""
     out = {}
     for j in range(H):
         for i in range(W):
-            out.setdefault(curray.OUTCOMES[img["outcome"][j, i]], (i, j))
+            if img["steps"][j, i] > 0:
+                out.setdefault(curray.OUTCOMES[img["outcome"][j, i]], (i, j))
     return out
 
 
@@ -270,8 +273,20 @@ def test_trace_null_and_ends(scenes, integrator):
             # the step's own states: exact to rounding; measured 2e-16 M),
             # not left at the step's end inside it
             assert abs(p.r[-1] - (r_plus + 0.005)) < 1e-9, p.r[-1] - (r_plus + 0.005)
-        else:  # left the scene boundary (observer's r + M) outward
-            assert p.r[-1] >= 41 * (1 - 1e-12) and p.ur[-1] > 0
+        else:  # left the scene radius (1 M beyond the disc's outer edge 12) outward
+            assert p.r[-1] >= 13 * (1 - 1e-12) and p.ur[-1] > 0
+    # a sky ray that never comes inside the scene radius ends in the image
+    # without a step (mino's check at the start); its path is traced again for
+    # the path alone, out to infinity, and its pixel stays the image's
+    zero = [(i, j) for j in range(H) for i in range(W)
+            if img["steps"][j, i] == 0 and curray.OUTCOMES[img["outcome"][j, i]] == "sky"]
+    if integrator == "mino":
+        assert zero
+    for i, j in zero[:2]:
+        p = curray.trace(scenes["kn"], pixel=(i, j), width=W, height=H, integrator=integrator)
+        assert p.outcome == "sky" and p.steps == 0 and len(p.r) > 8
+        assert p.r[0] == 40 and p.r[-1] > 1e3 and p.ur[-1] > 0
+        assert null_residual(p, a, q).max() < NULL_TOL[integrator]
     print("worst null residual (%s): %.3g" % (integrator, worst))
 
 
