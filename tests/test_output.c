@@ -26,6 +26,7 @@
 #include "base/fsutil.h"
 #include "output/info.h"
 #include "base/log.h"
+#include "output/fits.h"
 #include "output/output.h"
 #include "input/scene.h"
 #include "base/png_io.h"
@@ -1214,6 +1215,103 @@ static void test_output_types(void **state)
     }
 }
 
+/* The FITS file's layout read from its headers (2880-byte blocks of 80-byte
+ * cards): the HDUs, the bytes a pixel over the image extensions (|BITPIX|/8
+ * of each 2-d image), and the header blocks of the largest header. Returns
+ * the file's size in bytes (0: not a FITS file as expected). */
+static long fits_layout(const char *path, int w, int h, int *hdus, int *pixel_bytes,
+                        int *max_blocks)
+{
+    size_t n = 0;
+    char *t = read_all(path, &n);
+    size_t at = 0;
+    *hdus = *pixel_bytes = *max_blocks = 0;
+    while (t && at + 2880 <= n) {
+        long bitpix = 0, naxis = -1, nax[2] = {0, 0};
+        int end = 0, blocks = 0;
+        while (!end && at + 2880 <= n) {
+            for (int c = 0; c < 36; c++) {
+                const char *card = t + at + 80 * (size_t)c;
+                if (!strncmp(card, "END     ", 8))
+                    end = 1;
+                else if (!strncmp(card, "BITPIX  =", 9))
+                    bitpix = strtol(card + 10, NULL, 10);
+                else if (!strncmp(card, "NAXIS   =", 9))
+                    naxis = strtol(card + 10, NULL, 10);
+                else if (!strncmp(card, "NAXIS1  =", 9))
+                    nax[0] = strtol(card + 10, NULL, 10);
+                else if (!strncmp(card, "NAXIS2  =", 9))
+                    nax[1] = strtol(card + 10, NULL, 10);
+            }
+            at += 2880;
+            blocks++;
+        }
+        if (!end || bitpix == 0 || naxis < 0) {
+            free(t);
+            return 0;
+        }
+        (*hdus)++;
+        if (blocks > *max_blocks)
+            *max_blocks = blocks;
+        if (naxis == 2) {
+            size_t data = (size_t)labs(bitpix) / 8 * (size_t)nax[0] * (size_t)nax[1];
+            assert_int_equal(nax[0], w);
+            assert_int_equal(nax[1], h);
+            *pixel_bytes += (int)(labs(bitpix) / 8);
+            at += (data + 2879) / 2880 * 2880;
+        }
+    }
+    free(t);
+    return at == n ? (long)n : 0;
+}
+
+/* The memory check's count of a FITS frame (cr_fits_memory) against the file
+ * the writer makes: the same bytes a pixel and HDUs, each HDU's headers
+ * within the blocks allowed, and the whole file within the count. */
+static void test_fits_memory(void **state)
+{
+    fixture *f = *state;
+    const int w = 7, h = 5;
+    cr_scene s;
+    cr_frame fr;
+    cr_pixel px[7 * 5];
+    cr_err err;
+    char path[4096];
+    int hdus, ppx, blocks;
+    long size;
+    double per_pixel, headers;
+
+    if (!CR_TEST_HAVE_FITS) {
+        print_message("SKIPPED: this build writes no FITS\n");
+        return;
+    }
+    memset(&s, 0, sizeof s);
+    s.path = "fits.yml";
+    s.m = (cr_anim){1, 1};
+    s.obs_r = (cr_anim){30, 30};
+    s.obs_theta = (cr_anim){CR_PI / 2, CR_PI / 2};
+    s.hfov = (cr_anim){CR_PI / 4, CR_PI / 4};
+    assert_int_equal(cr_scene_frame(&s, 0, 1, w, h, NULL, &fr, NULL, &err), 0);
+    memset(px, 0, sizeof px);
+    for (int i = 0; i < w * h; i++)
+        px[i].outcome = CR_OUT_SKY;
+    assert_int_equal(cr_output_fits(f->dir, 0, 1, &s, &fr, px, &err), 0);
+    join(path, f, "f_0.fits");
+    size = fits_layout(path, w, h, &hdus, &ppx, &blocks);
+    assert_true(size > 0);
+    /* the count's figure a pixel: what one more row of pixels adds */
+    per_pixel = (cr_fits_memory(w, 2 * h) - cr_fits_memory(w, h)) / (double)(w * h);
+    headers = cr_fits_memory(w, h) - per_pixel * w * h - 8.0 * w;
+    print_message("FITS: %d HDUs, %d bytes a pixel in the file; counted %.17g a pixel, "
+                  "%.17g bytes of headers\n", hdus, ppx, per_pixel, headers);
+    assert_true(per_pixel == (double)ppx);
+    assert_int_equal(cr_fits_pixel_bytes(), ppx);
+    assert_int_equal(cr_fits_hdus(), hdus);
+    assert_true(blocks <= 4);
+    assert_true(headers == (double)hdus * 4.0 * 2880.0);
+    assert_true((double)size <= cr_fits_memory(w, h));
+}
+
 /* The first and last frame of a run of n frames of s, as the run passes
  * them to info.txt (fr[0], fr[1]). */
 static void info_ends(const cr_scene *s, int n, cr_frame fr[2], cr_run_info *run)
@@ -1856,6 +1954,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_info_resume, setup, teardown),
         cmocka_unit_test_setup_teardown(test_mkdir_p, setup, teardown),
         cmocka_unit_test(test_path_join),
+        cmocka_unit_test_setup_teardown(test_fits_memory, setup, teardown),
         cmocka_unit_test_setup_teardown(test_log, setup, teardown),
         cmocka_unit_test_setup_teardown(test_log_threads, setup, teardown),
     };

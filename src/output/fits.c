@@ -14,11 +14,49 @@
 #include "output.h"
 #include "../input/sysconfig.h"
 
+/* Quantities of the image extensions, in the file's order. */
+enum { CR_F_REDSHIFT, CR_F_HIT_R, CR_F_HIT_PHI, CR_F_BOLO, CR_F_OUTCOME, CR_F_STEPS, CR_F_ERR,
+       CR_F_STD, CR_F_ORDER, CR_F_THTURNS, CR_F_DELAY, CR_F_N };
+
+/* One image extension: its EXTNAME, BUNIT, comment and the bytes of one
+ * value, which also fix its FITS type (cr_fits_image): 8 float64, 4 uint32,
+ * 2 int16, 1 uint8. The writer and cr_fits_memory both read this table. */
+static const struct {
+    const char *name, *unit, *comment;
+    int bytes;
+} cr_fits_ext[CR_F_N] = {
+    {"REDSHIFT", "", "frequency ratio nu_obs/nu_em; NaN: no source", 8},
+    {"HIT_R", "M", "BL radius of the disc/sphere hit; NaN: none", 8},
+    {"HIT_PHI", "rad", "BL azimuth of the hit in [0, 2 pi); NaN: none", 8},
+    {"BOLO", "", "g^4 F / F_max of a Keplerian disc hit; NaN: none", 8},
+    {"OUTCOME", "", "what the ray reached: codes in OUTCOME0..6", 1},
+    {"STEPS", "", "integrator steps of the pixel", 4},
+    {"NULLERR", "", "mean of the ray's error monitor", 8},
+    {"NULLSTD", "", "standard deviation of the error monitor", 8},
+    {"ORDER", "", "equator crossings before the hit or end; -1: none", 2},
+    {"THTURNS", "", "polar turning points before it; -1: none", 2},
+    {"DELAY", "M", "coordinate-time delay of the hit; NaN: none", 8},
+};
+
+int cr_fits_pixel_bytes(void)
+{
+    int q, n = 0;
+    for (q = 0; q < CR_F_N; q++)
+        n += cr_fits_ext[q].bytes;
+    return n;
+}
+
+int cr_fits_hdus(void)
+{
+    return 1 + CR_F_N; /* the primary HDU and one extension a quantity */
+}
+
 double cr_fits_memory(int w, int h)
 {
-    /* 6 x 8 + 4 + 1 + 2 x 2 bytes a pixel; 11 HDUs of keywords, a few
-     * 2880-byte blocks each; one row of doubles */
-    return 57.0 * (double)w * (double)h + 11.0 * 4.0 * 2880.0 + 8.0 * (double)w;
+    /* the planes; each HDU's keywords, a few 2880-byte blocks; one row of
+     * the widest value */
+    return (double)cr_fits_pixel_bytes() * (double)w * (double)h +
+           (double)cr_fits_hdus() * 4.0 * 2880.0 + 8.0 * (double)w;
 }
 
 /* What curray_fits.so gives the program (module.h). */
@@ -80,26 +118,6 @@ int cr_fits_available(cr_err *err)
     (void)err;
     return 1;
 }
-
-/* Quantities of the image extensions. */
-enum { CR_F_REDSHIFT, CR_F_HIT_R, CR_F_HIT_PHI, CR_F_BOLO, CR_F_OUTCOME, CR_F_STEPS, CR_F_ERR,
-       CR_F_STD, CR_F_ORDER, CR_F_THTURNS, CR_F_DELAY, CR_F_N };
-
-static const struct {
-    const char *name, *unit, *comment;
-} cr_fits_ext[CR_F_N] = {
-    {"REDSHIFT", "", "frequency ratio nu_obs/nu_em; NaN: no source"},
-    {"HIT_R", "M", "BL radius of the disc/sphere hit; NaN: none"},
-    {"HIT_PHI", "rad", "BL azimuth of the hit in [0, 2 pi); NaN: none"},
-    {"BOLO", "", "g^4 F / F_max of a Keplerian disc hit; NaN: none"},
-    {"OUTCOME", "", "what the ray reached: codes in OUTCOME0..6"},
-    {"STEPS", "", "integrator steps of the pixel"},
-    {"NULLERR", "", "mean of the ray's error monitor"},
-    {"NULLSTD", "", "standard deviation of the error monitor"},
-    {"ORDER", "", "equator crossings before the hit or end; -1: none"},
-    {"THTURNS", "", "polar turning points before it; -1: none"},
-    {"DELAY", "M", "coordinate-time delay of the hit; NaN: none"},
-};
 
 /* Value of quantity q at pixel p, the CSV's (cr_pixel_csv_values), NaN
  * where the CSV writes -1. */
@@ -171,12 +189,10 @@ static void cr_fits_image(fitsfile *ff, int q, const cr_pixel *px, int w, int h,
 {
     long naxes[2];
     int y, x;
-    int count = q == CR_F_ORDER || q == CR_F_THTURNS;
-    int bitpix = q == CR_F_OUTCOME ? BYTE_IMG
-                 : q == CR_F_STEPS ? ULONG_IMG
-                 : count           ? SHORT_IMG
-                                   : DOUBLE_IMG;
-    int type = q == CR_F_OUTCOME ? TBYTE : q == CR_F_STEPS ? TUINT : count ? TSHORT : TDOUBLE;
+    int bytes = cr_fits_ext[q].bytes;
+    int bitpix = bytes == 1 ? BYTE_IMG : bytes == 2 ? SHORT_IMG : bytes == 4 ? ULONG_IMG
+                                                                             : DOUBLE_IMG;
+    int type = bytes == 1 ? TBYTE : bytes == 2 ? TSHORT : bytes == 4 ? TUINT : TDOUBLE;
     naxes[0] = w;
     naxes[1] = h;
     fits_create_img(ff, bitpix, 2, naxes, st);
@@ -185,11 +201,11 @@ static void cr_fits_image(fitsfile *ff, int q, const cr_pixel *px, int w, int h,
     for (y = 0; y < h && *st == 0; y++) {
         const cr_pixel *p = px + (size_t)(h - 1 - y) * (size_t)w;
         for (x = 0; x < w; x++) {
-            if (q == CR_F_OUTCOME)
+            if (bytes == 1) /* OUTCOME */
                 ((unsigned char *)row)[x] = p[x].outcome;
-            else if (q == CR_F_STEPS)
+            else if (bytes == 4) /* STEPS */
                 ((unsigned int *)row)[x] = p[x].steps;
-            else if (count) {
+            else if (bytes == 2) { /* ORDER, THTURNS */
                 cr_pixel_values v = cr_pixel_csv_values(&p[x]);
                 ((short *)row)[x] = (short)(q == CR_F_ORDER ? v.order : v.theta_turns);
             }

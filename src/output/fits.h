@@ -16,6 +16,11 @@
  *   STEPS     uint32   integrator steps of the pixel (BZERO 2147483648)
  *   NULLERR   float64  mean error monitor along the ray (CSV err_mean)
  *   NULLSTD   float64  its standard deviation (CSV err_std)
+ *   ORDER     int16    equator crossings before the hit or end (CSV order; -1:
+ *                      none)
+ *   THTURNS   int16    polar turning points before it (CSV theta_turns)
+ *   DELAY     float64  coordinate-time delay of the hit, units of M (CSV
+ *                      delay; NaN: none)
  * FITS rows count from the bottom of the image (the FITS convention, so
  * viewers show it upright): FITS row 1 is the PNG's last row; with astropy
  * data[::-1] is the image in the CSV's row order.
@@ -45,9 +50,16 @@ int cr_fits_available(cr_err *err);
     "-t f: this curray was built without cfitsio, so it cannot write FITS; install it "         \
     "(Debian: libcfitsio-dev, tools/install-deps.sh) and build again"
 
+/* The bytes a pixel of the file's image extensions (the sum over the
+ * quantities above of their value's size) and the number of its HDUs (the
+ * primary and one a quantity): from the table the writer writes. */
+int cr_fits_pixel_bytes(void);
+int cr_fits_hdus(void);
+
 /* The memory cr_output_fits holds while it writes a w x h frame, bytes: the
- * whole file, built in memory before it is written out (6 float64, 1 uint32
- * and 1 uint8 image, 53 bytes a pixel, plus the headers), and a row. */
+ * whole file, built in memory before it is written out (cr_fits_pixel_bytes()
+ * a pixel, plus a few 2880-byte header blocks for each of cr_fits_hdus()),
+ * and a row. */
 double cr_fits_memory(int w, int h);
 
 /* Write dir/f_<k>.fits for frame k of n, the frame f (made from scene s)
