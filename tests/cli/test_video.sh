@@ -145,11 +145,11 @@ awk -v n=$N -v h="$hash" -v sum="$sum" 'BEGIN {
 for k in $(seq 0 $((N - 1))); do ln one/c_0.png sig/c_$k.png; done
 # signal_video SIGNALS TEXT: start the resumed run, send SIGNALS (1 or 2
 # SIGTERMs) once the video's temporary file is there; caught=1 when the run
-# said TEXT (up to 5 tries: the video may end before the signal, or the run
+# said TEXT (up to 8 tries: the video may end before the signal, or the run
 # before the second signal)
 signal_video() {
     caught=0
-    for try in 1 2 3 4 5; do
+    for try in 1 2 3 4 5 6 7 8; do
         rm -f sig/c.mp4
         "$CURRAY" "${SIG[@]}" --resume </dev/null >sig.out 2>&1 &
         pid=$!
@@ -158,8 +158,14 @@ signal_video() {
             sleep 0.005
         done
         kill -TERM $pid 2>/dev/null
-        # a second signal sent while the first is pending would merge with it
-        [ "$1" = 2 ] && sleep 0.002 && kill -TERM $pid 2>/dev/null
+        # a second signal sent while the first is pending merges with it, and
+        # one sent after the run has stopped finds no run: under load no fixed
+        # pause lands between the two, so keep sending (the shell's own kill,
+        # microseconds apart) until one arrives after the first was taken or
+        # the run is gone
+        if [ "$1" = 2 ]; then
+            for _ in $(seq 1 20000); do kill -TERM $pid 2>/dev/null || break; done
+        fi
         wait $pid
         RC=$?
         OUT=$(cat sig.out)
