@@ -7,7 +7,10 @@
     p = curray.trace("scenes/demo.yml", pixel=(160, 60), width=320, height=240)
     p.x, p.y, p.z     # the ray's path in Cartesian coordinates (units of M)
 
-Both call curray's C library (the command line's scene loader, CPU and CUDA
+curray.spectrum(scene, width, height) returns the spectrum of a Keplerian disc
+(s_<k>.csv of -t s) as arrays.
+
+All call curray's C library (the command line's scene loader, CPU and CUDA
 backends and trace loop); bad input raises ValueError with the command line's
 message, Ctrl-C stops a render with KeyboardInterrupt.
 """
@@ -20,7 +23,7 @@ import numpy as np
 
 from . import _curray
 
-__all__ = ["render", "trace", "orbit", "ORBIT_COLUMNS", "backend_info", "OUTCOMES", "PATH_COLUMNS", "CONFIG_KEYS",
+__all__ = ["render", "spectrum", "SPECTRUM_COLUMNS", "trace", "orbit", "ORBIT_COLUMNS", "backend_info", "OUTCOMES", "PATH_COLUMNS", "CONFIG_KEYS",
            "__version__"]
 
 _C = _curray._constants()
@@ -173,6 +176,60 @@ def render(scene, width, height, frame=0, frames=1, backend="auto", **config):
     out = {}
     for k, buf in _curray._render(backend=backend, **args).items():
         out[k] = np.frombuffer(buf, dtype=_DTYPES[k]).reshape(shape + ((3,) if k == "rgb" else ()))
+    return out
+
+
+#: columns of each part of a spectrum (see spectrum), s_<k>.csv's after its
+#: spectrum and bin columns (the continuum has no g)
+SPECTRUM_COLUMNS = ("e_lo_kev", "e_hi_kev", "e_kev", "g", "flux", "normalised")
+
+
+class Spectrum(dict):
+    """A spectrum: line and continuum (dicts of arrays), energy_kev, rays,
+    inner_rays, warning; also as attributes."""
+
+    def __getattr__(self, k):
+        try:
+            return self[k]
+        except KeyError:
+            raise AttributeError(k) from None
+
+
+def spectrum(scene, width, height, frame=0, frames=1, backend="auto", **config):
+    """The observed spectrum of the Keplerian disc of frame `frame` of
+    `frames` of `scene`, traced at width x height pixels as render traces it
+    (with raytracer.samples = n > 1 every pixel's n x n sub-rays count): the
+    values of the command line's s_<k>.csv (-t s) of the same render.
+    Arguments as for render; the scene's spectrum key (spectrum.line:
+    energy_kev, emissivity_index, bins, range; spectrum.continuum: f_col,
+    bins, range) chooses the line and the bins, its defaults where absent.
+
+    Returns a Spectrum (a dict, also with attributes):
+    line: a dict of float64 arrays, one entry a bin: e_lo_kev, e_hi_kev (the
+      bin's edges, keV), e_kev (its middle), g (e_kev / energy_kev), flux
+      (the photon flux sum of g^3 r^-q dOmega per keV) and normalised (the
+      profile per unit g, of integral 1 over g), and edges (the n + 1 edges);
+    continuum: the same without g, e_kev the bin's geometric middle, flux
+      the energy flux per keV (W m^-2 keV^-1; times (D/M)^2 for the observer
+      at infinity), normalised of integral 1 over E in keV;
+    energy_kev (the line's rest energy), rays (the rays that met the
+    emitting disc), inner_rays (those between r_in and 2 r_in) and warning
+    (the command line's console warning when too few rays cover the inner
+    disc for a converged line profile, else None).
+    Raises ValueError naming the key on bad input (a scene without a
+    Keplerian disc: accretion; bad spectrum keys: spectrum.line.bins, ...).
+    """
+    args = _common(scene, width, height, frame, frames, config, "frame, frames, backend")
+    if not isinstance(backend, str):
+        raise ValueError("backend: expected auto, cpu or cuda, got %r" % (backend,))
+    lraw, nl, craw, nc, e0, rays, inner, warning = _curray._spectrum(backend=backend, **args)
+    out = Spectrum(energy_kev=e0, rays=rays, inner_rays=inner, warning=warning)
+    for part, raw, n in (("line", lraw, nl), ("continuum", craw, nc)):
+        a = np.frombuffer(raw, dtype="=f8").reshape(n, len(SPECTRUM_COLUMNS))
+        d = {c: a[:, k].copy() for k, c in enumerate(SPECTRUM_COLUMNS)
+             if not (part == "continuum" and c == "g")}
+        d["edges"] = np.append(d["e_lo_kev"], d["e_hi_kev"][-1:])
+        out[part] = d
     return out
 
 

@@ -25,6 +25,7 @@
 #include "output/info.h"
 #include "output/output.h"
 #include "output/raypath.h"
+#include "output/spectrum.h"
 #include "output/worldline.h"
 #include "input/scene.h"
 #include "input/sysconfig.h"
@@ -211,10 +212,12 @@ static int cr_py_backend(const char *backend, const cr_sysconfig *cfg)
 }
 
 /* The frame stack (render/run.h) of one frame, the job's: prepare hands
- * out the frame prepared already, deliver fills the arrays. */
+ * out the frame prepared already, deliver fills the arrays a (render) or
+ * sums the spectrum spec of the traced pixels (spectrum; a is NULL). */
 typedef struct cr_py_run {
     const cr_py_job *j;
     char **a;
+    cr_spectrum *spec;
     cr_py_wait *w;
 } cr_py_run;
 
@@ -231,9 +234,11 @@ static int cr_py_stack_deliver(void *ctx, int worker, const cr_traced *t, cr_err
 {
     cr_py_run *r = ctx;
     (void)worker;
-    (void)err;
-    if (!r->w->raised)
-        cr_py_fill(t->px, (size_t)t->frame->width * (size_t)t->frame->height, r->a);
+    if (r->w->raised)
+        return 0;
+    if (r->spec)
+        return cr_spectrum_compute(t->frame, t->px, &r->j->scene.spectrum, r->spec, err);
+    cr_py_fill(t->px, (size_t)t->frame->width * (size_t)t->frame->height, r->a);
     return 0;
 }
 
@@ -246,10 +251,13 @@ static void cr_py_stack_progress(void *ctx, int worker, const cr_item *it, int r
 }
 
 /* Trace the frame on the opened backend b through the frame stack, as the
- * command line does, and fill the arrays a[] from the pixels, with the GIL
- * released but for the signal checks of cr_py_poll. Returns 0; -1 with err
- * set; or -2 when a signal handler raised (its exception is set). */
-static int cr_py_trace_frame(const cr_py_job *j, cr_backend *b, char **a, cr_err *err)
+ * command line does, and fill the arrays a[] from the pixels (or, with a
+ * NULL and spec given, sum the spectrum of -t s into spec; free it with
+ * cr_spectrum_free when this returns 0), with the GIL released but for the
+ * signal checks of cr_py_poll. Returns 0; -1 with err set; or -2 when a
+ * signal handler raised (its exception is set). */
+static int cr_py_trace_frame(const cr_py_job *j, cr_backend *b, char **a, cr_spectrum *spec,
+                             cr_err *err)
 {
     cr_stack_ops ops = {NULL, cr_py_stack_prepare, cr_py_stack_deliver, NULL,
                         cr_py_stack_progress, NULL};
@@ -261,6 +269,7 @@ static int cr_py_trace_frame(const cr_py_job *j, cr_backend *b, char **a, cr_err
     atomic_init(&w.cancel, 0);
     r.j = j;
     r.a = a;
+    r.spec = spec;
     r.w = &w;
     ops.ctx = &r;
     w.ts = PyEval_SaveThread();
@@ -332,7 +341,7 @@ static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
         Py_DECREF(b); /* the dict holds it */
     }
     err.msg[0] = '\0';
-    rc = cr_py_trace_frame(&j, &b, ptr, &err);
+    rc = cr_py_trace_frame(&j, &b, ptr, NULL, &err);
     cr_backend_close(&b);
     cr_py_job_free(&j);
     if (rc) {
@@ -345,6 +354,93 @@ nomem:
     cr_py_job_free(&j);
     Py_XDECREF(out);
     return PyErr_NoMemory();
+}
+
+/* The rows of one part of a spectrum (line = 1, the continuum 0) as bytes
+ * of n x CR_SPEC_COLS doubles, the values of s_<k>.csv (cr_spectrum_row). */
+static PyObject *cr_py_spectrum_rows(const cr_spectrum *s, int line)
+{
+    int n = line ? s->n_line : s->n_cont;
+    double total = cr_spectrum_part_total(s, line);
+    PyObject *b = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)((size_t)n * CR_SPEC_COLS *
+                                                               sizeof(double)));
+    if (!b)
+        return NULL;
+    for (int i = 0; i < n; i++)
+        cr_spectrum_row(s, line, i, total, (double *)PyBytes_AS_STRING(b) + (size_t)i *
+                                                                               CR_SPEC_COLS);
+    return b;
+}
+
+/* _spectrum(scene, is_path, name, config, width, height, frame, frames,
+ * backend) -> (line rows, n_line, continuum rows, n_cont, energy_kev, rays,
+ * inner_rays, warning or None): the spectrum of -t s (s_<k>.csv) of the
+ * frame, traced as render traces it; the rows are bytes of n x CR_SPEC_COLS
+ * doubles. The scene's spectrum key (or its defaults) sets the bins. */
+static PyObject *cr_py_spectrum(PyObject *self, PyObject *args, PyObject *kw)
+{
+    const char *scene, *name, *cfg, *backend = "auto";
+    Py_ssize_t scene_len, cfg_len;
+    int is_path, rc, device;
+    long width, height, fk, nf;
+    cr_py_job j;
+    cr_backend b;
+    cr_spectrum s;
+    char note[512];
+    PyObject *line = NULL, *cont = NULL;
+    cr_err err;
+    (void)self;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "s#pss#llll|s", render_kw, &scene, &scene_len,
+                                     &is_path, &name, &cfg, &cfg_len, &width, &height, &fk, &nf,
+                                     &backend))
+        return NULL;
+    if (cr_py_prepare(&j, scene, scene_len, name, is_path, cfg, cfg_len, width, height, fk, nf))
+        return NULL;
+    if (!j.scene.has_disc || j.scene.disc_model != CR_DISC_KEPLERIAN) {
+        PyErr_Format(PyExc_ValueError,
+                     "scene file %s: accretion: the spectrum is that of a Keplerian disc, and "
+                     "the scene has %s; add accretion: {model: keplerian, ...}",
+                     name, j.scene.has_disc ? "a chessboard disc" : "no disc");
+        cr_py_job_free(&j);
+        return NULL;
+    }
+    device = cr_py_backend(backend, &j.cfg);
+    if (device == -2) {
+        cr_py_job_free(&j);
+        return NULL;
+    }
+    if (cr_cpu_memory_check((double)width * (double)height * (double)sizeof(cr_pixel), &err)) {
+        cr_py_job_free(&j);
+        PyErr_Format(PyExc_MemoryError, "a %ldx%ld frame %s; choose a smaller width, height",
+                     width, height, err.msg);
+        return NULL;
+    }
+    if (cr_backend_open(&b, device, cr_backend_cpu_threads(0, j.cfg.cpu_threads), (int)width,
+                        (int)height, &err)) {
+        cr_py_job_free(&j);
+        return device < 0 ? PyErr_NoMemory() : cr_py_value_error("", &err);
+    }
+    err.msg[0] = '\0';
+    memset(&s, 0, sizeof s);
+    rc = cr_py_trace_frame(&j, &b, NULL, &s, &err);
+    cr_backend_close(&b);
+    cr_py_job_free(&j);
+    if (rc) {
+        cr_spectrum_free(&s);
+        return rc == -2 ? NULL : cr_py_value_error("", &err);
+    }
+    if (!(line = cr_py_spectrum_rows(&s, 1)) || !(cont = cr_py_spectrum_rows(&s, 0))) {
+        Py_XDECREF(line);
+        cr_spectrum_free(&s);
+        return NULL;
+    }
+    rc = cr_spectrum_coverage_note(&s, note, sizeof note);
+    {
+        PyObject *out = Py_BuildValue("(NiNidllz)", line, s.n_line, cont, s.n_cont, s.e0,
+                                      s.rays, s.inner_rays, rc ? note : NULL);
+        cr_spectrum_free(&s);
+        return out;
+    }
 }
 
 /* _backend_info() -> (cuda_built, device or None, why): what backend="auto"
@@ -514,6 +610,8 @@ static PyMethodDef cr_py_methods[] = {
      "The worldline of an orbit file (curray orbit's rows)."},
     {"_render", (PyCFunction)(void (*)(void))cr_py_render, METH_VARARGS | METH_KEYWORDS,
      "Render one frame; returns a dict of bytearrays (the arrays of render)."},
+    {"_spectrum", (PyCFunction)(void (*)(void))cr_py_spectrum, METH_VARARGS | METH_KEYWORDS,
+     "The spectrum of one frame (s_<k>.csv's rows)."},
     {"_trace", (PyCFunction)(void (*)(void))cr_py_trace, METH_VARARGS | METH_KEYWORDS,
      "Trace one pixel's ray with its path."},
     {"_constants", cr_py_constants, METH_NOARGS,

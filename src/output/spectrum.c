@@ -154,21 +154,42 @@ static void cr_put(FILE *fp, double v)
     fputs(buf, fp);
 }
 
-/* Sum of sum[k] over k, and the bins' values per unit x (width w[k]). */
-static double cr_spectrum_total(const double *sum, int n)
+double cr_spectrum_part_total(const cr_spectrum *s, int line)
 {
+    const double *sum = line ? s->line_sum : s->cont_sum;
+    int n = line ? s->n_line : s->n_cont;
     double t = 0.0;
     for (int k = 0; k < n; k++)
         t += sum[k];
     return t;
 }
 
+void cr_spectrum_row(const cr_spectrum *s, int line, int i, double total,
+                     double v[CR_SPEC_COLS])
+{
+    const double *edges = line ? s->line_edges : s->cont_edges;
+    double sum = line ? s->line_sum[i] : s->cont_sum[i];
+    double lo = edges[i], hi = edges[i + 1], w = hi - lo;
+    v[0] = lo;
+    v[1] = hi;
+    if (line) {
+        v[2] = 0.5 * (lo + hi);
+        v[3] = v[2] / s->e0;
+        v[4] = sum / w;
+        /* per unit g = E / E0: the bin's share over its width in g */
+        v[5] = total > 0.0 ? sum / (total * w / s->e0) : 0.0;
+    } else {
+        v[2] = sqrt(lo * hi);
+        v[3] = -1.0;
+        v[4] = sum / w;
+        v[5] = total > 0.0 ? sum / (total * w) : 0.0;
+    }
+}
+
 int cr_output_spectrum_csv(const char *dir, int k, const cr_spectrum *s, cr_err *err)
 {
     char path[4096], name[64];
     cr_atomic at;
-    double tl = cr_spectrum_total(s->line_sum, s->n_line),
-           tc = cr_spectrum_total(s->cont_sum, s->n_cont);
     FILE *fp;
     snprintf(name, sizeof name, "s_%d.csv", k);
     if (cr_path_join(path, sizeof path, dir, name) != 0)
@@ -177,24 +198,21 @@ int cr_output_spectrum_csv(const char *dir, int k, const cr_spectrum *s, cr_err 
         return -1;
     fp = at.fp;
     fputs("spectrum,bin,e_lo_kev,e_hi_kev,e_kev,g,flux,normalised\n", fp);
-    for (int i = 0; i < s->n_line; i++) {
-        double lo = s->line_edges[i], hi = s->line_edges[i + 1], mid = 0.5 * (lo + hi);
-        double w = hi - lo;
-        fprintf(fp, "line,%d,", i);
-        cr_put(fp, lo), fputc(',', fp), cr_put(fp, hi), fputc(',', fp), cr_put(fp, mid);
-        fputc(',', fp), cr_put(fp, mid / s->e0), fputc(',', fp);
-        cr_put(fp, s->line_sum[i] / w), fputc(',', fp);
-        cr_put(fp, tl > 0.0 ? s->line_sum[i] / (tl * w / s->e0) : 0.0);
-        fputc('\n', fp);
-    }
-    for (int i = 0; i < s->n_cont; i++) {
-        double lo = s->cont_edges[i], hi = s->cont_edges[i + 1], w = hi - lo;
-        fprintf(fp, "continuum,%d,", i);
-        cr_put(fp, lo), fputc(',', fp), cr_put(fp, hi), fputc(',', fp), cr_put(fp, sqrt(lo * hi));
-        fputs(",-1,", fp);
-        cr_put(fp, s->cont_sum[i] / w), fputc(',', fp);
-        cr_put(fp, tc > 0.0 ? s->cont_sum[i] / (tc * w) : 0.0);
-        fputc('\n', fp);
+    for (int line = 1; line >= 0; line--) {
+        double total = cr_spectrum_part_total(s, line), v[CR_SPEC_COLS];
+        int n = line ? s->n_line : s->n_cont;
+        for (int i = 0; i < n; i++) {
+            cr_spectrum_row(s, line, i, total, v);
+            fprintf(fp, "%s,%d", line ? "line" : "continuum", i);
+            for (int c = 0; c < CR_SPEC_COLS; c++) {
+                fputc(',', fp);
+                if (!line && c == 3)
+                    fputs("-1", fp);
+                else
+                    cr_put(fp, v[c]);
+            }
+            fputc('\n', fp);
+        }
     }
     if (ferror(fp)) {
         int e = errno ? errno : EIO;

@@ -59,6 +59,16 @@ int cr_spectrum_coverage_note(const cr_spectrum *s, char *msg, size_t n);
  * bin's geometric middle, g -1, flux the energy flux per keV in W m^-2
  * keV^-1, normalised so that its integral over E in keV is 1). */
 int cr_output_write_spectrum(const cr_frame_output *o, cr_err *err);
+/* The values of bin i of the line (line = 1) or the continuum (line = 0)
+ * as s_<k>.csv writes them after its spectrum and bin columns: e_lo_kev,
+ * e_hi_kev, e_kev, g (-1 for the continuum), flux, normalised; total is
+ * cr_spectrum_part_total of the same part. The CSV and curray.spectrum
+ * (Python) both take their values from here. */
+#define CR_SPEC_COLS 6
+double cr_spectrum_part_total(const cr_spectrum *s, int line);
+void cr_spectrum_row(const cr_spectrum *s, int line, int i, double total,
+                     double v[CR_SPEC_COLS]);
+
 int cr_output_spectrum_csv(const char *dir, int k, const cr_spectrum *s, cr_err *err);
 
 #endif

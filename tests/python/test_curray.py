@@ -648,3 +648,107 @@ def test_orbit_bad_input(particle, text):
     p.update(particle)
     with pytest.raises(ValueError, match=text.replace(".", r"\.")):
         curray.orbit({"metric": {"m": 1, "a": 0.7, "q": 0.3}, "particle": p})
+
+
+# ---- spectrum == the command line's s_<k>.csv --------------------------------
+
+SPEC_YAML = """metric: {m: 1, a: 0.9, q: 0}
+observer: {r: inf, theta: 60 deg, phi: 0, hextent: 40}
+accretion: {model: keplerian, radius: [15], temperature: 1e7}
+spectrum:
+  line: {energy_kev: 6.4, emissivity_index: 2.5, bins: 30, range: [2, 8]}
+  continuum: {f_col: 1.7, bins: 25}
+"""
+SPEC_DICT = {"metric": {"m": 1, "a": 0.9, "q": 0},
+             "observer": {"r": float("inf"), "theta": "60 deg", "phi": 0, "hextent": 40},
+             "accretion": {"model": "keplerian", "radius": [15], "temperature": 1e7},
+             "spectrum": {"line": {"energy_kev": 6.4, "emissivity_index": 2.5, "bins": 30,
+                                   "range": [2, 8]},
+                          "continuum": {"f_col": 1.7, "bins": 25}}}
+
+
+@pytest.mark.parametrize("name,config", [
+    ("spec", {}), ("spec", {"samples": 2}), ("kepler", {}), ("kepler", {"integrator": "rk4"})])
+def test_spectrum_equals_cli_csv(scenes, tmp_path, name, config):
+    """Every value of s_0.csv, bit for bit (the CSV prints the shortest
+    decimal that reads back as the same double), and the normalisation
+    checked from the flux column: the line's normalised column integrates to
+    1 over g = E / E0, the continuum's to 1 over E (keV), each proportional
+    to its flux."""
+    path = tmp_path / "s.yml"
+    path.write_text(SPEC_YAML if name == "spec" else open(scenes["kepler"]).read())
+    cfg = tmp_path / "config.yml"
+    cfg.write_text("raytracer:\n" + "".join("  %s: %s\n" % kv for kv in config.items()))
+    run_cli("-s", path, "-o", tmp_path / "o", "-x", W, "-y", H, "-t", "s", "-c", cfg)
+    header, rows = read_csv(tmp_path / "o" / "s_0.csv")
+    assert header == ["spectrum", "bin"] + list(curray.SPECTRUM_COLUMNS)
+    sp = curray.spectrum(str(path), W, H, threads=2, **config)
+    assert sp.rays > 0 and 0 < sp.inner_rays <= sp.rays
+    e0 = 6.4
+    assert sp.energy_kev == e0
+    for part in ("line", "continuum"):
+        mine = [r for r in rows if r[0] == part]
+        d = sp[part]
+        assert [int(r[1]) for r in mine] == list(range(len(mine)))
+        for k, c in enumerate(curray.SPECTRUM_COLUMNS):
+            want = np.array([float(r[2 + k]) for r in mine])
+            if part == "continuum" and c == "g":
+                assert c not in d and np.all(want == -1)
+                continue
+            assert d[c].dtype == np.float64 and d[c].shape == (len(mine),), (part, c)
+            assert np.array_equal(d[c], want), (part, c)
+        assert np.array_equal(d["edges"], np.append(d["e_lo_kev"], d["e_hi_kev"][-1]))
+        w = d["e_hi_kev"] - d["e_lo_kev"]
+        dx = w / e0 if part == "line" else w
+        assert abs(np.sum(d["normalised"] * dx) - 1) < 1e-12, part
+        total = np.sum(d["flux"] * w)
+        assert np.allclose(d["normalised"], d["flux"] / total * (e0 if part == "line" else 1),
+                           rtol=1e-12, atol=0), part
+    # the dict scene is the file
+    if name == "spec" and not config:
+        sd = curray.spectrum(SPEC_DICT, W, H, threads=1)
+        for part in ("line", "continuum"):
+            for c in sp[part]:
+                assert np.array_equal(sd[part][c], sp[part][c]), (part, c)
+
+
+def test_spectrum_warning_and_defaults(scenes, tmp_path):
+    """The default bins (200 line bins around E0 = 6.4 keV, 100 continuum
+    bins) of a scene without a spectrum key, and the command line's console
+    warning when fewer than 10 rays a line bin meet the inner disc."""
+    sp = curray.spectrum(scenes["kepler"], 16, 12, threads=1)
+    r = subprocess.run([BIN, "-a", "true", "--threads", "1", "-s", scenes["kepler"], "-o",
+                        str(tmp_path), "-x", "16", "-y", "12", "-t", "s"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert sp.warning and "curray: warning: frame 0: " + sp.warning in r.stdout + r.stderr, (
+        sp.warning, r.stdout, r.stderr)
+    assert len(sp.line["e_kev"]) == 200 and len(sp.continuum["e_kev"]) == 100
+    assert sp.line["e_lo_kev"][0] == pytest.approx(0.64) and sp.line["e_hi_kev"][-1] == \
+        pytest.approx(9.6)
+    assert sp.inner_rays < 2000
+    assert "fewer than 10 per line bin (200 bins)" in sp.warning
+
+
+@pytest.mark.parametrize("scene, text", [
+    ({"metric": {"m": 1, "a": 0, "q": 0}, "observer": {"r": 30, "theta": 70, "phi": 0,
+                                                       "hfov": 60}},
+     r"^scene file \(scene dict\): accretion: the spectrum is that of a Keplerian disc, and "
+     r"the scene has no disc"),
+    ({"metric": {"m": 1, "a": 0, "q": 0}, "observer": {"r": 30, "theta": 70, "phi": 0,
+                                                       "hfov": 60},
+      "accretion": {"radius": [6, 12], "resolution": [2, 2], "color1": [255, 0, 0]}},
+     r"^scene file \(scene dict\): accretion: .* the scene has a chessboard disc"),
+    ({"spectrum": {"line": {"bins": 0}}}, r"spectrum\.line\.bins"),
+    ({"spectrum": {"continuum": {"bins": -2}}}, r"spectrum\.continuum\.bins"),
+    ({"spectrum": {"line": {"energy_kev": 0}}},
+     r"spectrum\.line\.energy_kev: the line's rest energy must be positive"),
+    ({"spectrum": {"line": {"range": [3, 3]}}}, r"spectrum\.line\.range: the range \[3, 3\] keV is empty"),
+    ({"spectrum": {"continuum": {"range": [-1, 3]}}},
+     r"spectrum\.continuum\.range\[0\]: a photon energy must be positive"),
+])
+def test_spectrum_bad_input(scene, text):
+    s = dict(SPEC_DICT, spectrum={}) if "metric" not in scene else {}
+    s.update(scene)
+    with pytest.raises(ValueError, match=text):
+        curray.spectrum(s, 8, 8)
