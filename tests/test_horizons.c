@@ -669,6 +669,327 @@ static void test_plunge_worldline(void **state)
     }
 }
 
+/* ---- 9. inside the inner horizon ------------------------------------------ */
+
+/* The null condition along rays from observers inside r- that cross r- and
+ * r+: RN Q = 0.8 at r = 0.36 (r- = 0.4, bounce 0.32), Kerr-Newman a = 0.6,
+ * Q = 0.5 at r = 0.3 (r- = 0.3755), Kerr a = 0.9 at r = 0.4 (r- = 0.5641),
+ * tol 1e-12, every state at fractions 1/4 .. 1 of every step while in the
+ * ingoing chart and for 20 steps beyond r+ + epsilon, as test 2 (there in
+ * the BL metric: the ingoing form is ill-conditioned for outgoing rays; states
+ * within 0.01 M of r = 0 left out: the
+ * ingoing metric's terms there are of order a^2 / r^2 against 1 and the
+ * ratio measures their cancellation, not the ray). Each hole has rays that
+ * cross r- and rays that go on through r+, and some rays turn inside r-
+ * first. */
+static void test_null_across_inner(void **state)
+{
+    const double holes[3][3] = {{0.0, 0.8, 0.36}, {0.6, 0.5, 0.3}, {0.9, 0.0, 0.4}};
+    int hi, turned_all = 0;
+    (void)state;
+    for (hi = 0; hi < 3; hi++) {
+        cr_frame f;
+        double worst = 0.0;
+        int cross_m = 0, cross_p = 0, px, turned = 0;
+        fall_frame(&f, holes[hi][0], holes[hi][1], holes[hi][2], 70.0 * DEG, 11, 11, 1e-12);
+        assert_true(f.obs_inside && f.obs_inner);
+        for (px = 0; px < 121; px++) {
+            cr_ray ray;
+            double n[3], yb[CR_NY], turns = 0.0;
+            cr_geo g;
+            int steps, was_in = 1, in_dw = 0, after = 0;
+            if (!cr_camera_in_image(&f, px % 11, px / 11))
+                continue;
+            cr_camera_pixel_dir(&f, px % 11, px / 11, n);
+            cr_camera_ray(&f, n, &g, yb);
+            cr_ray_from_bl(&f, &g, yb, &ray);
+            assert_int_equal(ray.inner, 1);
+            for (steps = 0; steps < 5000 && cr_ray_ingoing(&ray) && after < 20; steps++) {
+                int k;
+                if (cr_ray_at_horizon(&f, &ray) || cr_ray_other_side(&ray) ||
+                    cr_ray_singular(&ray))
+                    break;
+                after += ray.out;
+                cr_ray_begin(&ray);
+                in_dw |= ray.m[CR_M_DW] > 0.0;
+                assert_int_equal(cr_ray_advance(&f, &ray), 0);
+                for (k = 1; k <= 4; k++) {
+                    double ys[CR_MN];
+                    cr_ray_state_at(&ray, 0.25 * k, ys);
+                    if (ys[CR_M_W] < 100.0) {
+                        /* beyond r+ + epsilon (out) in the BL metric, as
+                         * test 2 does after the change to BL */
+                        cr_ray rb = ray;
+                        if (ray.out)
+                            rb.c.chart = CR_CHART_BL;
+                        worst = fmax(worst, fabs(state_null(&f, &rb, ys)));
+                    }
+                }
+                cr_ray_commit(&f, &ray, &turns);
+                if (was_in && !ray.inner) {
+                    cross_m++;
+                    was_in = 0;
+                    turned += in_dw;
+                }
+            }
+            cross_p += ray.out;
+        }
+        printf("a = %g, Q = %g, r = %g: %d rays cross r- (%d after a turn inside), %d go on "
+               "through r+, worst null norm %.2e\n",
+               holes[hi][0], holes[hi][1], holes[hi][2], cross_m, turned, cross_p, worst);
+        assert_true(cross_m > 10 && cross_p > 10);
+        assert_true(worst < 1e-10);
+        turned_all += turned;
+    }
+    assert_true(turned_all > 0);
+}
+
+/* phi(r) of an equatorial RN ray (a = 0, so phi~ = phi) with one turning
+ * point r_t, from r0 inward to r_t and back out to r: int L dr / sqrt(R),
+ * R = E^2 r^4 - Delta L^2, each leg with r = r_t + s^2 (dr / sqrt(R) =
+ * 2 s ds / sqrt(R), regular at the turning point), 4-point Gauss-Legendre
+ * on 4000 pieces. */
+static double rn_phi_leg(double E, double L, double q, double rt, double r1)
+{
+    static const double x4[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                                 0.8611363115940526};
+    static const double w4[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                                 0.3478548451374538};
+    double sum = 0.0, s1 = sqrt(r1 - rt), h = s1 / 4000.0;
+    int i, j;
+    for (i = 0; i < 4000; i++)
+        for (j = 0; j < 4; j++) {
+            double sv = h * (i + 0.5 + 0.5 * x4[j]), r = rt + sv * sv;
+            double del = r * r - 2.0 * r + q * q;
+            sum += 0.5 * h * w4[j] * 2.0 * sv * L / sqrt(E * E * r * r * r * r - del * L * L);
+        }
+    return sum;
+}
+
+/* An RN ray's path through r- against the exact radial integral: Q = 0.8,
+ * observer (infall) at r0 = 0.36 M inside r- = 0.4; (1) the equatorial ray
+ * with local direction 40 deg from outward: straight out through r- and r+
+ * to the sky, phi(r) = int_r0^r L dr / sqrt(R) (rn_phi) and the time column
+ * v(r) (rn_v) at every path point, to 1e-8 rad and 1e-7 relative while in
+ * the ingoing chart; (2) the ray 170 deg from outward: in to its turning
+ * point r_t (the root of R, bisection), out through r- and r+: phi against
+ * the two legs of rn_phi_leg, to 1e-8 rad. Constants from the free-fall
+ * frame written here: E = 1 + cos(psi) sqrt(2M/r0 - Q^2/r0^2), L = r0 sin(psi). */
+static void test_rn_ray_inner(void **state)
+{
+    const double q = 0.8, r0 = 0.36, psis[2] = {40.0 * DEG, 170.0 * DEG};
+    int k;
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        cr_frame f;
+        cr_path path;
+        static double pts[4000 * CR_PN];
+        double n[3], E, L, worst = 0.0, worst_t = 0.0, vr, rt = r0, phi_t = 0.0, rmin = r0;
+        double r_prev = r0;
+        double psi = psis[k];
+        cr_pixel px;
+        int i, checked = 0, inner = 0, between = 0, turned = 0;
+        fall_frame(&f, 0.0, q, r0, 90.0 * DEG, 101, 101, 1e-11);
+        f.observer.projection = CR_PROJ_RECTILINEAR;
+        cr_frame_prepare(&f);
+        assert_true(f.obs_inner);
+        n[0] = cos(psi);
+        n[1] = 0.0;
+        n[2] = sin(psi);
+        {
+            cr_geo g;
+            double yb[CR_NY];
+            cr_ray ray;
+            cr_camera_ray(&f, n, &g, yb);
+            cr_ray_from_bl(&f, &g, yb, &ray);
+            path.pts = pts;
+            path.cap = 4000;
+            path.sub = 8;
+            ray.path = &path;
+            px = cr_trace_loop(&f, &ray);
+        }
+        assert_int_equal(px.outcome, CR_OUT_SKY);
+        vr = sqrt(2.0 / r0 - q * q / (r0 * r0));
+        E = 1.0 + cos(psi) * vr;
+        L = sin(psi) * r0;
+        if (k == 1) {
+            /* the turning point: R(r) = 0 below r0 (R(r0) > 0, R < 0 near r = 0) */
+            double lo = 1e-6, hi = r0;
+            int it;
+            for (it = 0; it < 200; it++) {
+                double mid = 0.5 * (lo + hi), del = mid * mid - 2.0 * mid + q * q;
+                if (E * E * mid * mid * mid * mid - del * L * L > 0.0)
+                    hi = mid;
+                else
+                    lo = mid;
+            }
+            rt = hi;
+            phi_t = rn_phi_leg(E, L, q, rt, r0);
+        }
+        for (i = 1; i < path.n && i < path.cap; i++) {
+            const double *p = pts + i * CR_PN;
+            double r = p[CR_P_R], want;
+            rmin = fmin(rmin, r);
+            if (k == 0)
+                want = rn_phi(E, L, q, r0, r);
+            else {
+                /* the outward leg from the first point beyond the one before */
+                turned |= r > r_prev;
+                want = turned ? phi_t + rn_phi_leg(E, L, q, rt, r)
+                              : phi_t - rn_phi_leg(E, L, q, rt, r);
+            }
+            r_prev = r;
+            if (r > 20.0)
+                break;
+            if (k == 1) {
+                /* at the turn r alone cannot tell the legs apart (dphi/dr is
+                 * infinite there): the nearer leg counts */
+                double l = rn_phi_leg(E, L, q, rt, r);
+                worst = fmax(worst, fmin(fabs(p[CR_P_PH] - (phi_t - l)),
+                                         fabs(p[CR_P_PH] - (phi_t + l))));
+            } else
+                worst = fmax(worst, fabs(p[CR_P_PH] - want));
+            if (k == 0 && r < cr_metric_r_plus(&f.metric)) {
+                double v = rn_v(E, L, q, r0, r);
+                worst_t = fmax(worst_t, fabs(p[CR_P_T] - v) / (1.0 + fabs(v)));
+            }
+            checked++;
+            inner += r < cr_metric_r_minus(&f.metric);
+            between += r > cr_metric_r_minus(&f.metric) && r < cr_metric_r_plus(&f.metric);
+        }
+        printf("RN ray from r = %g, %g deg from outward%s: %d path points (%d inside r-, %d "
+               "between the horizons), worst |dphi| = %.2e rad, worst relative error of v "
+               "%.2e\n",
+               r0, psi / DEG, k ? " (turning inside r-)" : "", checked, inner, between, worst,
+               worst_t);
+        if (k == 1) {
+            printf("  turning point r_t = %.10f, path minimum %.10f\n", rt, rmin);
+            assert_true(fabs(rmin - rt) < 1e-3 && turned);
+        }
+        assert_true(inner >= 4 && between >= 4 && checked > inner + between + 4);
+        assert_true(worst < 1e-8);
+        assert_true(worst_t < 1e-7);
+    }
+}
+
+/* Which rays from inside r- reach r = 0, against R(r) = P^2 - Delta K: a
+ * backward ray that starts inward reaches r = CR_R_SING iff R > 0 all the
+ * way from the observer down (R sampled on 20000 log-spaced points of
+ * [CR_R_SING, r_obs]); one that starts outward never does. Kerr a = 0.9 at
+ * r = 0.3 M, theta = 60 deg
+ * (rays with Carter constant eta < 0 go through the disc r = 0; R(0) =
+ * -a^2 eta) and Reissner-Nordstrom Q = 0.8 at r = 0.36 (R(0) = -Q^2 K: only
+ * K = 0 rays, the centre pixel looking straight in), 61 x 61 fisheye of
+ * 300 deg; pixels whose sampled minimum of R lies within 1e-9 of 0 (edge)
+ * are left out. Every other pixel's outcome must match. */
+static void test_singularity_outcome(void **state)
+{
+    const double holes[2][4] = {{0.9, 0.0, 0.3, 60.0}, {0.0, 0.8, 0.36, 90.0}};
+    int hi;
+    (void)state;
+    for (hi = 0; hi < 2; hi++) {
+        cr_frame f;
+        const int w = 61;
+        int px, sing = 0, other = 0, bad = 0, edge = 0;
+        double a = holes[hi][0], q = holes[hi][1], ro = holes[hi][2];
+        fall_frame(&f, a, q, ro, holes[hi][3] * DEG, w, w, 1e-10);
+        f.observer.hfov = f.observer.vfov = 300.0 * DEG;
+        cr_frame_prepare(&f);
+        for (px = 0; px < w * w; px++) {
+            cr_ray ray;
+            cr_pixel p;
+            double n[3], yb[CR_NY], E, L, K, rmin = INFINITY;
+            cr_geo g;
+            int j, want;
+            if (!cr_camera_in_image(&f, px % w, px / w))
+                continue;
+            cr_camera_pixel_dir(&f, px % w, px / w, n);
+            cr_camera_ray(&f, n, &g, yb);
+            cr_ray_from_bl(&f, &g, yb, &ray);
+            E = ray.c.E;
+            L = ray.c.L;
+            K = ray.c.eta + (L + a * E) * (L + a * E);
+            for (j = 0; j <= 20000; j++) {
+                /* log-spaced from CR_R_SING (where the ray ends) to r_obs */
+                double r = CR_R_SING * pow(ro / CR_R_SING, j / 20000.0);
+                double P = E * (r * r + a * a) + a * L;
+                double del = r * r - 2.0 * r + a * a + q * q;
+                rmin = fmin(rmin, (P * P - del * K) / (P * P + fabs(del * K) + 1e-300));
+            }
+            want = ray.m[CR_M_DW] > 0.0 && rmin > 0.0;
+            p = cr_trace_loop(&f, &ray);
+            if (fabs(rmin) < 1e-9) {
+                edge++;
+                continue;
+            }
+            sing += p.outcome == CR_OUT_SINGULARITY;
+            other += p.outcome != CR_OUT_SINGULARITY;
+            assert_true(p.outcome != CR_OUT_ERROR);
+            if ((p.outcome == CR_OUT_SINGULARITY) != want) {
+                bad++;
+                printf("  pixel (%d, %d): %s, predicted %s (min R ratio %.3e)\n", px % w,
+                       px / w, cr_outcome_name(p.outcome), want ? "singularity" : "not",
+                       rmin);
+            }
+        }
+        printf("a = %g, Q = %g, r = %g: %d rays reach r = 0, %d do not, %d at the edge, %d "
+               "misclassified\n",
+               a, q, ro, sing, other, edge, bad);
+        assert_int_equal(bad, 0);
+        assert_true(sing > 0 && other > 0);
+    }
+}
+
+/* A plunge through r+ and r- of an RN hole (Q = 0.8: r+ = 1.6, r- = 0.4,
+ * bounce 0.32): observer.r = [infall, 2, 0.33], 41 frames, r(tau) against the
+ * closed form tau(r) = T(r0) - T(r), T(x) = (2x - Q^2)^(3/2)/6 + Q^2 (2x -
+ * Q^2)^(1/2)/2 (dtau/dr = -r/sqrt(2Mr - Q^2)), inverted by bisection, to
+ * 1e-8 relative; the last frames lie inside r-, and each frame traces. */
+static double rn_T(double x, double q)
+{
+    double u = 2.0 * x - q * q;
+    return u * sqrt(u) / 6.0 + 0.5 * q * q * sqrt(u);
+}
+
+static void test_plunge_inner(void **state)
+{
+    const char *rn = "metric: {m: 1, a: 0, q: 0.8}\n"
+                     "observer: {r: [infall, 2, 0.33], theta: 90, phi: 0, hfov: 300, "
+                     "motion: infall, projection: fisheye}\n";
+    cr_scene s;
+    cr_frame f;
+    cr_err e;
+    const double q = 0.8;
+    double total = rn_T(2.0, q) - rn_T(0.33, q), worst = 0.0;
+    int k, inner = 0;
+    (void)state;
+    assert_int_equal(cr_scene_load_string(rn, strlen(rn), "scene.yml", &s, &e), 0);
+    for (k = 0; k < 41; k++) {
+        double want_tau = total * k / 40.0, lo = 0.33, hi = 2.0;
+        int it;
+        cr_pixel p;
+        for (it = 0; it < 200; it++) {
+            double mid = 0.5 * (lo + hi);
+            if (rn_T(2.0, q) - rn_T(mid, q) > want_tau)
+                lo = mid;
+            else
+                hi = mid;
+        }
+        assert_int_equal(cr_scene_frame(&s, k, 41, 9, 9, NULL, &f, NULL, &e), 0);
+        worst = fmax(worst, fabs(f.observer.r - 0.5 * (lo + hi)) / f.observer.r);
+        inner += f.obs_inner;
+        assert_true(f.obs_inner == (f.observer.r < 0.4));
+        p = cr_trace_point(&f, 4, 4);
+        assert_true(p.outcome != CR_OUT_ERROR);
+    }
+    cr_scene_free(&s);
+    printf("RN plunge through r+ and r-: %d of 41 frames inside r-, worst relative error of "
+           "r(tau) %.2e\n",
+           inner, worst);
+    assert_true(inner >= 2);
+    assert_true(worst < 1e-8);
+}
+
 /* ---- bad input ----------------------------------------------------------- */
 
 static void expect_refused(const char *text, const char *n1, const char *n2)
@@ -702,7 +1023,16 @@ static void test_refused(void **state)
                    "observer.r", "on the event horizon");
     expect_refused("metric: {m: 1, a: 0, q: 0.8}\n"
                    "observer: {r: 0.3, theta: 90, phi: 0, hfov: 90, motion: infall}\n",
-                   "observer.r = 0.3", "inside the inner horizon r- = 0.4");
+                   "observer.r = 0.3", "bounces there, inside r- = 0.4");
+    expect_refused("metric: {m: 1, a: 0, q: 0.8}\n"
+                   "observer: {r: 0.36, theta: 90, phi: 0, hfov: 90}\n",
+                   "observer.r = 0.36", "inside the inner horizon r- = 0.4");
+    expect_refused("metric: {m: 1, a: 0.9, q: 0}\n"
+                   "observer: {r: 5e-5, theta: 60, phi: 0, hfov: 90, motion: infall}\n",
+                   "observer.r = 5e-05", "disc inside the ring");
+    expect_refused("metric: {m: 1, a: 0.6, q: 0}\n"
+                   "observer: {r: 0.2, theta: 60, phi: 0, hfov: 90, motion: infall}\n",
+                   "observer.r = 0.2", "on the inner horizon");
     expect_refused("metric: {m: 1, a: 0, q: 0.8}\n"
                    "observer: {r: 0.4, theta: 90, phi: 0, hfov: 90, motion: infall}\n",
                    "observer.r = 0.4", "on the inner horizon");
@@ -741,7 +1071,9 @@ int main(void)
         cmocka_unit_test(test_null_across_horizon), cmocka_unit_test(test_schwarzschild_interior),
         cmocka_unit_test(test_rn_interior),         cmocka_unit_test(test_rn_ray_path),
         cmocka_unit_test(test_continuity),          cmocka_unit_test(test_inside_sky_shift),
-        cmocka_unit_test(test_plunge_worldline),    cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_plunge_worldline),    cmocka_unit_test(test_null_across_inner),
+        cmocka_unit_test(test_rn_ray_inner),        cmocka_unit_test(test_singularity_outcome),
+        cmocka_unit_test(test_plunge_inner),        cmocka_unit_test(test_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -61,7 +61,8 @@ static void test_words(void **state)
     assert_string_equal(cr_name(CR_NAMES_DISC_MODEL, CR_DISC_KEPLERIAN), "keplerian");
     assert_string_equal(cr_names_list(CR_NAMES_INSIDE_ISCO), "nothing, plunging");
     assert_string_equal(cr_names_list(CR_NAMES_OUTCOME),
-                        "none, horizon, disc, sphere, sky, error, limit, outside, other side");
+                        "none, horizon, disc, sphere, sky, error, limit, outside, other side, "
+                        "singularity");
     assert_int_equal(cr_names_count(CR_NAMES_OUTCOME), CR_OUT_COUNT_);
     assert_string_equal(cr_outcome_name(CR_OUT_LIMIT), "limit");
     assert_string_equal(cr_outcome_name(CR_OUT_COUNT_), "unknown");

@@ -1399,7 +1399,8 @@ static void test_errors_syntax_and_shape(void **state)
         /* keys */
         {BASE "foo: 1\n", "scene.yml:10:1: unknown key 'foo' at the top level",
          "(expected one of: metric, observer, accretion, skymap, sphere, spheres, sky_color, "
-         "horizon_color, error_color, limit_color, redshift_sky, other_side_color, spectrum)"},
+         "horizon_color, error_color, limit_color, redshift_sky, other_side_color, spectrum, "
+         "singularity_color)"},
         {BASE "observer: {}\n", "scene.yml:10:1: observer: ",
          "duplicate key 'observer' (first given at line 5, column 1)"},
         {"metric: {m: 1, a: 0, q: 0, m: 2}\n" OBSL, "scene.yml:1:28: metric.m: ", "duplicate key 'm'"},

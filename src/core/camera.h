@@ -43,10 +43,11 @@
  * moving observer's tetrad is the boosted ZAMO tetrad of observer.h;
  * obs_sqrt_mgtt is then 1 / u^t (sqrt(-g_tt) for the static observer, whose
  * u^t = 1/sqrt(-g_tt); positive everywhere outside the horizon, negative
- * between the horizons, where BL t runs backward along the infall). An
- * observer between the horizons (obs_inside) gets the free-fall frame of
- * observer.h, boosted by its velocity (measured in that frame) if it has
- * one; its rays start in the ingoing chart (ray.h). */
+ * between the horizons, where BL t runs backward along the infall, positive
+ * again inside r-). An observer inside r+ (obs_inside; inside r- also
+ * obs_inner) gets the free-fall frame of observer.h, boosted by its
+ * velocity (measured in that frame) if it has one; its rays start in the
+ * ingoing chart (ray.h). */
 CR_HD static inline void cr_camera_prepare(cr_frame *f)
 {
     const cr_observer *o = &f->observer;
@@ -57,7 +58,7 @@ CR_HD static inline void cr_camera_prepare(cr_frame *f)
         for (b = 0; b < 4; b++)
             f->tetrad[a][b] = 0.0;
     f->obs_on_axis = 0;
-    f->obs_inside = 0;
+    f->obs_inside = f->obs_inner = 0;
     if (fabs(s) < 1e-10)
         f->obs_on_axis = cos(o->theta) > 0.0 ? 1 : -1;
     /* forward, right, up */
@@ -75,6 +76,7 @@ CR_HD static inline void cr_camera_prepare(cr_frame *f)
         return;
     }
     f->obs_inside = o->r < cr_metric_r_plus(&f->metric);
+    f->obs_inner = o->r < cr_metric_r_minus(&f->metric);
     if (f->obs_inside) {
         /* between the horizons: the free-fall frame (observer.h), boosted by
          * v for a velocity; its covariant legs for E and L (cr_camera_ray) */

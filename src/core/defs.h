@@ -188,7 +188,12 @@ typedef enum cr_outcome {
                            interior through its past boundary away from our
                            exterior (toward the other exterior of the eternal
                            hole; ray.h); painted in other_side_color */
-    CR_OUT_COUNT_ = 9
+    CR_OUT_SINGULARITY = 9, /* a ray from inside the inner horizon that reached
+                           r = 0 (closer than CR_R_SING, frame.h; ray.h): the central
+                           singularity, or for a != 0 the ring or the disc
+                           inside it, beyond which (r < 0) curray does not
+                           follow it; painted in singularity_color */
+    CR_OUT_COUNT_ = 10
 } cr_outcome;
 
 /* The integrator that traces the rays (raytracer.integrator).
@@ -229,6 +234,7 @@ typedef struct cr_frame {
     cr_rgb sky_color, horizon_color, error_color;
     cr_rgb limit_color;  /* rays that end on max_steps or max_turns */
     cr_rgb other_side_color; /* rays that end as CR_OUT_OTHER_SIDE */
+    cr_rgb singularity_color; /* rays that end as CR_OUT_SINGULARITY */
     int width, height;
 
     /* raytracer settings (system configuration; their defaults and limits:
@@ -278,6 +284,12 @@ typedef struct cr_frame {
                              contravariant ones grow as 1/Delta) */
     double w_other;       /* obs_inside: 1 / (r+ - epsilon), where a ray bound
                              for the other side ends */
+    int obs_inner;        /* the observer is inside the inner horizon,
+                             0 < r < r- (obs_inside is set too) */
+    double w_minus;       /* 1 / r- (INFINITY when r- = 0): rays from inside
+                             r- leave it at w < w_minus */
+    double w_sing;        /* 1 / CR_R_SING: a ray from inside r- that gets
+                             there ends as CR_OUT_SINGULARITY */
 } cr_frame;
 
 /* Result for one pixel. redshift = omega_r / omega_s (6.9), -1 where it is

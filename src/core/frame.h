@@ -11,6 +11,18 @@
  * orbit of a Kerr-Newman hole (r <= 4M), so an outgoing ray there escapes. */
 #define CR_MIN_R_MAX_OVER_M 6.0
 
+/* Inside the inner horizon: a ray that comes closer to r = 0 than this (in
+ * units of M) ends as CR_OUT_SINGULARITY (ray.h). w = 1/r cannot pass r = 0
+ * (a != 0: the disc inside the ring, beyond which r < 0), and a ray that
+ * turns inside this radius is taken for one that does not: for
+ * Reissner-Nordstrom rays with K < E^2 1e-24 / Q^2 (the turning radius is
+ * (K Q^2 / E^2)^(1/4) for small K), for Kerr those with Carter constant
+ * 0 < eta < 2e-6 K / a^2 (turning radius a^2 eta / (2 M K)). */
+#define CR_R_SING 1e-6
+/* The smallest observer.r inside the horizon, in units of M (100 CR_R_SING:
+ * its rays start well away from where they would end). */
+#define CR_R_SING_OBS 1e-4
+
 /* Express every length of a frame in units of M (DESIGN "Conventions"), so
  * that an image never depends on the choice of M: divides the metric, the
  * observer's r and image-plane extents, the disc radii and the sky boundary
@@ -45,7 +57,8 @@ CR_HD static inline void cr_sphere_to_units_of_m(cr_sphere *s, double m)
 /* Complete the derived fields of a frame whose scene and settings are set.
  * Requires a validated scene (a horizon, a static observer outside the
  * ergosurface or at infinity, a moving one outside r+ or, under Mino, an
- * infalling or velocity observer between the horizons, r- < r < r+). Spheres must already be prepared
+ * infalling or velocity observer inside r+, r != r+-, r > 0, 2Mr > Q^2).
+ * Spheres must already be prepared
  * (cr_sphere_prepare). */
 CR_HD static inline void cr_frame_prepare(cr_frame *f)
 {
@@ -63,6 +76,9 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
     f->w_stop = 1.0 / f->r_stop;
     /* from inside the horizon: where rays bound for the other side end */
     f->w_other = 1.0 / (cr_metric_r_plus(&f->metric) - f->horizon_epsilon);
+    /* from inside r-: where rays leave it, and where they end at r = 0 */
+    f->w_minus = 1.0 / cr_metric_r_minus(&f->metric);
+    f->w_sing = 1.0 / (CR_R_SING * f->metric.m);
     if (f->disc.enabled)
         ro = f->disc.r_out;
     for (k = 0; k < f->n_spheres; k++) {

@@ -47,6 +47,25 @@
  *     phi~ diverge): the ray ends at r+ - epsilon as CR_OUT_OTHER_SIDE.
  * No event (disc, sphere) is looked for inside r+ + epsilon: nothing curray
  * draws exists there.
+ *
+ * From an observer inside the inner horizon (f->obs_inner, 0 < r < r-) the
+ * ray starts in the same ingoing chart, which also covers the region inside
+ * r- that the infall reaches (Delta > 0 again; r is a space coordinate
+ * there, so a backward ray may move to smaller r and turn). There the
+ * combination (r^2 + a^2) d_t + a d_phi is timelike and future-directed, so
+ * every backward ray has P(r) = E (r^2 + a^2) + a L > 0: the one branch of
+ * r- in its past is the one from the region between the horizons, which the
+ * ingoing chart covers regularly (its rates take the form w^2 K/(Pw - dw)
+ * there, as at r+); the other branch of r- lies in its future and is never
+ * reached backward. A ray found with P(r-) <= 0 (only by rounding, at the
+ * edge of that bound) ends as an error. A ray that leaves r- outward
+ * (w < f->w_minus) is then a ray between the horizons like those above
+ * (P(r+) decides, as there). A ray that comes closer to r = 0 than
+ * CR_R_SING (w >= f->w_sing) ends as CR_OUT_SINGULARITY: the central
+ * singularity for a = 0 (only K = 0 rays get there: for Q != 0 every other
+ * ray turns, R(0) = -Q^2 K), for a != 0 the ring singularity or the disc
+ * r = 0 inside it, through which the ray would go on to r < 0, a region
+ * curray does not follow (w = 1/r cannot pass r = 0).
  */
 #ifndef CR_CORE_RAY_H
 #define CR_CORE_RAY_H
@@ -92,6 +111,11 @@ typedef struct cr_ray {
      * (crossed) or ended on the other side (other). */
     double w_exit;
     int exit_out, exit_step, out, crossed, other;
+    /* From an observer inside r- (header comment; 0 otherwise): inner is 1
+     * while the ray is inside r- (w >= f->w_minus), -1 for a ray with
+     * P(r-) <= 0 (ends as an error), 0 once it is out; sing: it came within
+     * CR_R_SING of r = 0 (ends as CR_OUT_SINGULARITY). */
+    int inner, sing;
 } cr_ray;
 
 /* The ray is in the ingoing chart (inside r+ + epsilon, from an observer
@@ -429,6 +453,7 @@ CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
     ray->path = 0;
     ray->w_exit = 0.0;
     ray->exit_out = ray->exit_step = ray->out = ray->crossed = ray->other = 0;
+    ray->inner = ray->sing = 0;
     if (fabs(ray->m[CR_M_NZ]) < 1e-15) /* cos(pi/2) rounded: on the disc plane */
         ray->m[CR_M_NZ] = 0.0;
     cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
@@ -447,6 +472,7 @@ CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, cons
     ray->g = *g;
     ray->w_exit = 0.0;
     ray->exit_out = ray->exit_step = ray->out = ray->crossed = ray->other = 0;
+    ray->inner = ray->sing = 0;
     for (i = 0; i < CR_NY; i++)
         ray->y[i] = y[i];
     if (f->integrator == CR_INTEG_MINO) {
@@ -461,6 +487,10 @@ CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, cons
             cr_ray_mino_start(f, ray);
             ray->exit_out = P > 0.0;
             ray->w_exit = ray->exit_out ? f->w_stop : f->w_other;
+            if (f->obs_inner) {
+                double rm = cr_metric_r_minus(&f->metric);
+                ray->inner = g->E * (rm * rm + g->mt.a * g->mt.a) + g->mt.a * g->L > 0.0 ? 1 : -1;
+            }
             return;
         }
         cr_ray_mino_start(f, ray);
@@ -483,14 +513,14 @@ CR_HD static inline double cr_ray_begin(cr_ray *ray)
 
 /* The ray reached the horizon stop r+ + epsilon from outside: in BL, and
  * moving inward if it came out of the interior (it starts there at the
- * stop). In the ingoing chart: it moves inward (dw/dtau >= 0), which a ray
- * between the horizons never does (R > 0 there): it came out through r+,
+ * stop). In the ingoing chart, outside r-: it moves inward (dw/dtau >= 0),
+ * which a ray between the horizons never does (R > 0 there): it came out through r+,
  * turned between r+ and r+ + epsilon and falls back toward the past horizon,
  * the end of every exterior ray that reaches the stop. */
 CR_HD static inline int cr_ray_at_horizon(const cr_frame *f, const cr_ray *ray)
 {
     if (cr_ray_ingoing(ray))
-        return !ray->out && ray->m[CR_M_DW] >= 0.0;
+        return !ray->out && !ray->inner && ray->m[CR_M_DW] >= 0.0;
     return ray->kind == CR_INTEG_MINO
                ? cr_mino_at_horizon(ray->m, f->w_stop) && (!ray->crossed || ray->m[CR_M_DW] > 0.0)
                : ray->y[CR_Y_R] <= f->r_stop;
@@ -500,6 +530,22 @@ CR_HD static inline int cr_ray_at_horizon(const cr_frame *f, const cr_ray *ray)
 CR_HD static inline int cr_ray_other_side(const cr_ray *ray)
 {
     return ray->kind == CR_INTEG_MINO && ray->other;
+}
+
+/* The ray came within CR_R_SING of r = 0 from inside r- (header comment). */
+CR_HD static inline int cr_ray_singular(const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO && ray->sing;
+}
+
+/* After a move of a ray from inside r- (cr_ray_commit): whether it is still
+ * inside r-, and whether it came within CR_R_SING of r = 0. */
+CR_HD static inline void cr_ray_inner_update(const cr_frame *f, cr_ray *ray)
+{
+    if (ray->inner > 0) {
+        ray->sing = ray->m[CR_M_W] >= f->w_sing;
+        ray->inner = ray->m[CR_M_W] >= f->w_minus;
+    }
 }
 
 /* How far state y of the ray's integrator lies beyond the horizon stop
@@ -558,9 +604,9 @@ CR_HD static inline void cr_ray_time_step(const cr_frame *f, cr_ray *ray)
 /* One step from the current state to y1 / m1. Returns 0, or -1 when the
  * integration failed (non-finite state, step size collapsed). In the
  * ingoing chart a step that passes w_exit is taken again, shortened to end
- * there (located on its dense output; exit_step set); a state there with
- * dw/dtau not negative (NaN: moving inward ends the ray before,
- * cr_ray_at_horizon) fails. */
+ * there (located on its dense output; exit_step set); a state there outside
+ * r- with dw/dtau not negative (NaN: moving inward ends the ray before,
+ * cr_ray_at_horizon) fails, and so does a ray with P(r-) <= 0 (inner < 0). */
 CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
 {
     int tries, i;
@@ -568,7 +614,7 @@ CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
         double h = ray->h_next;
         int cut = 0;
         ray->exit_step = 0;
-        if (cr_ray_ingoing(ray) && !(ray->m[CR_M_DW] < 0.0))
+        if (cr_ray_ingoing(ray) && (ray->inner < 0 || (!ray->inner && !(ray->m[CR_M_DW] < 0.0))))
             return -1;
         for (tries = 0;; tries++) {
             double err = cr_dp5_try(&ray->c, f->tolerance, h, ray->m, &ray->st, ray->m1);
@@ -644,6 +690,7 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
             for (i = 0; i < CR_MN; i++)
                 ray->m[i] = ray->m1[i];
             ray->exit_step = 0;
+            ray->inner = 0; /* w_exit < w_minus */
             if (!ray->exit_out) {
                 ray->other = 1;
                 return;
@@ -671,6 +718,7 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
             ray->m[i] = ray->m1[i];
             ray->st.k[0][i] = ray->st.k[6][i];
         }
+        cr_ray_inner_update(f, ray);
         cr_ray_to_bl(f, ray);
         return;
     }

@@ -4,7 +4,8 @@
  * One loop (chapter 6) for both integrators (the frame's integrator behind
  * ray.h): from the observer's state, repeat
  *   the ends (6.8): at the horizon stop -> horizon; at r+ - epsilon bound
- *     for the other exterior (from inside the horizon) -> other side;
+ *     for the other exterior (from inside the horizon) -> other side; at
+ *     r = 0 (from inside r-, ray.h) -> singularity;
  *     beyond the sky radius
  *     moving outward -> sky (sky.h); step or turn limit -> limit;
  *   one step (cr_ray_advance), with its error monitor;
@@ -161,6 +162,11 @@ CR_HD static inline int cr_trace_ends(const cr_frame *f, cr_ray *ray, cr_pixel *
     }
     if (cr_ray_other_side(ray)) {
         cr_trace_other_side(f, px);
+        return 1;
+    }
+    if (cr_ray_singular(ray)) {
+        px->outcome = CR_OUT_SINGULARITY;
+        px->color = f->singularity_color;
         return 1;
     }
     cr_monitor_add(mon, cr_ray_begin(ray));

@@ -33,7 +33,8 @@
     X(CR_OUT_ERROR, "error")                                                                   \
     X(CR_OUT_LIMIT, "limit")                                                                   \
     X(CR_OUT_OUTSIDE, "outside")                                                               \
-    X(CR_OUT_OTHER_SIDE, "other side")
+    X(CR_OUT_OTHER_SIDE, "other side")                                                         \
+    X(CR_OUT_SINGULARITY, "singularity")
 
 #define SIMD_WORDS(X)                                                                          \
     X(CR_SIMD_AUTO, "auto")                                                                    \

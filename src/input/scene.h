@@ -117,6 +117,7 @@ typedef struct cr_scene {
     cr_rgb error_color;   /* default blue */
     cr_rgb limit_color;   /* default yellow */
     cr_rgb other_side_color; /* default purple (96, 0, 128) */
+    cr_rgb singularity_color; /* default white (255, 255, 255) */
     cr_spectrum_spec spectrum; /* spectrum: (given = 0: the defaults) */
     int redshift_sky;     /* redshift_sky: colour the sky in r_<k>.png by its
                              shift (cr_redshift_sky_color); default 0, black as

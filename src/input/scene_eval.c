@@ -208,9 +208,11 @@ static int extent_fail(const cr_scene *s, int k, int n, double m, const cr_obser
  * components of its frame grow as 1/Delta, and on the horizon none exists. */
 #define HORIZON_GAP_TOL 1e-9
 
-/* An observer between the horizons, r- < r < r+ (observer.h: the free-fall
- * frame; ray.h: the ingoing chart): only infall and a velocity measured by
- * the free-faller exist there. */
+/* An observer inside the outer horizon (observer.h: the free-fall frame;
+ * ray.h: the ingoing chart), between the horizons (r- < r < r+) or inside
+ * the inner one (0 < r < r-, where the free fall from rest at infinity
+ * exists: 2Mr - Q^2 > 0, above its bounce): only infall and a velocity
+ * measured by the free-faller. */
 static int frame_inside(const cr_scene *s, int k, int n, const cr_metric *mt,
                         const cr_observer *o, cr_err *err)
 {
@@ -219,27 +221,42 @@ static int frame_inside(const cr_scene *s, int k, int n, const cr_metric *mt,
         return frame_fail(err, s, k, n,
                           "observer.r = %g is inside the horizon r+ = %g of an extremal hole "
                           "(r- = r+): there is no region between the horizons, and curray "
-                          "does not trace observers inside r-",
+                          "does not trace observers inside an extremal hole",
                           o->r, rp);
-    if (!(o->r > 0.0))
+    if (!(o->r > CR_R_SING_OBS * mt->m))
         return frame_fail(err, s, k, n,
                           "observer.r = %g: inside the event horizon an observer needs "
-                          "0 < r < r+ = %g (r = 0 is the singularity)",
-                          o->r, rp);
-    if (o->r <= rm * (1.0 + HORIZON_GAP_TOL))
+                          "%g M < r < r+ = %g (r = 0 is the singularity%s, and curray does "
+                          "not trace r < 0)",
+                          o->r, CR_R_SING_OBS, rp,
+                          mt->a != 0.0 ? " or the disc inside the ring" : "");
+    if (fabs(o->r - rm) <= HORIZON_GAP_TOL * rp)
         return frame_fail(err, s, k, n,
-                          "observer.r = %g is %s the inner horizon r- = %g: curray traces "
-                          "observers outside r+ and between the horizons (r- < r < r+ = %g), "
-                          "not on or inside r-",
-                          o->r, o->r < rm * (1.0 - HORIZON_GAP_TOL) ? "inside" : "on", rm, rp);
+                          "observer.r = %.10g is on the inner horizon r- = %.10g, where no "
+                          "camera frame exists; keep it at least %g r+ away",
+                          o->r, rm, HORIZON_GAP_TOL);
+    if (o->r < rm && !(2.0 * mt->m * o->r - mt->q * mt->q > 0.0))
+        return frame_fail(err, s, k, n,
+                          "observer.r = %g is below r = Q^2 / 2M = %g, where the free fall from "
+                          "rest at infinity turns back (it bounces there, inside r- = %g); "
+                          "curray's frames inside r+ are built on that free fall, so an "
+                          "observer inside r- needs r > %g",
+                          o->r, mt->q * mt->q / (2.0 * mt->m), rm,
+                          mt->q * mt->q / (2.0 * mt->m));
     if (o->motion == CR_MOTION_STATIC)
         return frame_fail(err, s, k, n,
-                          "observer.r = %g is inside the event horizon r+ = %g, where no "
-                          "observer can stay at rest (r is a time there: everything moves to "
-                          "smaller r); use observer.motion: infall (free fall from rest at "
-                          "infinity), or a velocity [v_r, v_theta, v_phi] measured by that "
-                          "free-faller",
-                          o->r, rp);
+                          o->r < rm
+                              ? "observer.r = %g is inside the inner horizon r- = %g: curray "
+                                "builds observers inside r+ on the free fall from rest at "
+                                "infinity only (a static observer is not supported there); "
+                                "use observer.motion: infall, or a velocity [v_r, v_theta, "
+                                "v_phi] measured by that free-faller"
+                              : "observer.r = %g is inside the event horizon r+ = %g, where no "
+                                "observer can stay at rest (r is a time there: everything "
+                                "moves to smaller r); use observer.motion: infall (free fall "
+                                "from rest at infinity), or a velocity [v_r, v_theta, v_phi] "
+                                "measured by that free-faller",
+                          o->r, o->r < rm ? rm : rp);
     if (o->motion == CR_MOTION_ZAMO)
         return frame_fail(err, s, k, n,
                           "observer.motion = zamo: no zero angular momentum observer exists "
@@ -722,6 +739,7 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     f->error_color = s->error_color;
     f->limit_color = s->limit_color;
     f->other_side_color = s->other_side_color;
+    f->singularity_color = s->singularity_color;
     f->width = width;
     f->height = height;
     /* inside the core every length is in units of M (messages above use the
@@ -747,7 +765,7 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     /* the boundary of an observer at infinity is at infinity too */
     if (!(isfinite(f->r_max) || (s->obs_at_infinity && f->r_max == INFINITY)) ||
         !isfinite(f->r_stop) ||
-        !(f->obs_inside ? f->obs_sqrt_mgtt < 0.0 : f->obs_sqrt_mgtt > 0.0) ||
+        !(f->obs_inside && !f->obs_inner ? f->obs_sqrt_mgtt < 0.0 : f->obs_sqrt_mgtt > 0.0) ||
         !isfinite(f->obs_sqrt_mgtt) || !isfinite(f->tan_half_h) || !isfinite(f->tan_half_v))
         return frame_fail(err, s, k, n,
                           "the scene's numbers are too large to trace (r_max = %g)", f->r_max);

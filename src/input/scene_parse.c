@@ -927,13 +927,13 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
 {
     enum {
         METRIC, OBSERVER, ACCRETION, SKYMAP, SPHERE, SPHERES, SKY, HORIZON, ERRC, LIMITC, REDSKY,
-        OTHERC, SPECTRUM, N
+        OTHERC, SPECTRUM, SINGC, N
     };
     cr_yaml_field f[N] = {REQ("metric"),    REQ("observer"),      OPT("accretion"),
                           OPT("skymap"),    MANY("sphere"),       OPT("spheres"),
                           OPT("sky_color"), OPT("horizon_color"), OPT("error_color"),
                           OPT("limit_color"), OPT("redshift_sky"), OPT("other_side_color"),
-                          OPT("spectrum")};
+                          OPT("spectrum"),    OPT("singularity_color")};
     cr_yaml y;
     yaml_node_t *root;
     char got[96];
@@ -976,6 +976,7 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
         field_rgb(&y, &f[ERRC], NULL, RGB(0, 0, 255), &s->error_color, err) ||
         field_rgb(&y, &f[LIMITC], NULL, RGB(255, 255, 0), &s->limit_color, err) ||
         field_rgb(&y, &f[OTHERC], NULL, RGB(96, 0, 128), &s->other_side_color, err) ||
+        field_rgb(&y, &f[SINGC], NULL, RGB(255, 255, 255), &s->singularity_color, err) ||
         (f[REDSKY].value &&
          cr_yaml_bool(&y, f[REDSKY].value, "redshift_sky", &s->redshift_sky, err)))
         goto fail;

@@ -298,6 +298,8 @@ static void cr_info_frame(FILE *fp, int k, const cr_frame_stats *st)
         fprintf(fp, " %s %lld%s", cr_outcome_name(o), st->counts[o], o < CR_OUT_LIMIT ? "," : "");
     if (st->counts[CR_OUT_OTHER_SIDE]) /* only from inside the horizon */
         fprintf(fp, ", other side %lld", st->counts[CR_OUT_OTHER_SIDE]);
+    if (st->counts[CR_OUT_SINGULARITY]) /* only from inside r- */
+        fprintf(fp, ", singularity %lld", st->counts[CR_OUT_SINGULARITY]);
     if (st->counts[CR_OUT_OUTSIDE]) /* only fisheye images have such pixels */
         fprintf(fp, ", outside the image %lld", st->counts[CR_OUT_OUTSIDE]);
     if (st->counts[CR_OUT_NONE])

@@ -61,6 +61,7 @@ static void scene_defaults(cr_web *w)
     s->error_color = cr_rgb_make(0, 0, 255);
     s->limit_color = cr_rgb_make(255, 255, 0);
     s->other_side_color = cr_rgb_make(96, 0, 128);
+    s->singularity_color = cr_rgb_make(255, 255, 255);
     s->disc_order = -1; /* accretion.order unset: every image order */
     s->obs_motion = CR_MOTION_STATIC;
     s->obs_projection = CR_PROJ_RECTILINEAR;
