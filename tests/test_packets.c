@@ -22,7 +22,9 @@
  * within 1e-9 (radius relative, azimuth absolute) of the scalar one on a
  * class edge (listed; none are expected, as the lanes round as the scalar
  * code does); redshift, bolometric brightness and hit point within 1e-12
- * relative; the same steps. The counts of pixels equal bit for bit are
+ * relative; the same steps; the error monitor (err_mean, err_std) and the
+ * emission delay bit for bit (the lanes keep the scalar bookkeeping's
+ * order of operations). The counts of pixels equal bit for bit are
  * printed. A frame with 3 x 3 samples (the packet path hands it to the
  * scalar tracer) and frames with cancelled renders are not covered here.
  *
@@ -156,7 +158,7 @@ static int pk_compare_scene(const char *name, int path)
     cr_sphere buf[PK_MAX_SPHERES];
     cr_frame f;
     cr_err err;
-    long same_bits = 0, edge = 0, bad = 0, bad_steps = 0;
+    long same_bits = 0, edge = 0, bad = 0, bad_steps = 0, bad_book = 0;
     double worst_g = 0.0;
     int k;
     snprintf(full, sizeof full, "scenes/%s", name);
@@ -171,10 +173,16 @@ static int pk_compare_scene(const char *name, int path)
                          a->order == b->order && a->theta_turns == b->theta_turns &&
                          a->color.r == b->color.r && a->color.g == b->color.g &&
                          a->color.b == b->color.b;
-        same_bits += pk_same_pixel(a, b) && a->steps == b->steps &&
-                     memcmp(&a->err_mean, &b->err_mean, sizeof a->err_mean) == 0 &&
-                     memcmp(&a->err_std, &b->err_std, sizeof a->err_std) == 0 &&
+        int same_book = memcmp(&a->err_mean, &b->err_mean, sizeof a->err_mean) == 0 &&
+                        memcmp(&a->err_std, &b->err_std, sizeof a->err_std) == 0 &&
+                        memcmp(&a->delay, &b->delay, sizeof a->delay) == 0;
+        same_bits += pk_same_pixel(a, b) && a->steps == b->steps && same_book &&
                      memcmp(&a->bolo, &b->bolo, sizeof a->bolo) == 0;
+        if (!same_book && bad_book++ < 5)
+            print_message("  %s %s: pixel (%d,%d) monitor %.17g/%.17g, %.17g/%.17g, delay "
+                          "%.17g/%.17g\n",
+                          name, cr_cpu_simd_name(path), k % W, k / W, a->err_mean, b->err_mean,
+                          a->err_std, b->err_std, a->delay, b->delay);
         if (!same_class) {
             if ((a->outcome == CR_OUT_DISC || a->outcome == CR_OUT_SPHERE) &&
                 a->outcome == b->outcome && pk_rel(a->hit_r, b->hit_r) <= 1e-9 &&
@@ -205,10 +213,11 @@ static int pk_compare_scene(const char *name, int path)
                           k % W, k / W, a->steps, b->steps);
     }
     print_message("%-44s %-16s %4ld of %d pixels equal bit for bit, %ld on an edge, worst "
-                  "redshift %.1e, %ld mismatches, %ld steps differ\n",
-                  name, cr_cpu_simd_name(path), same_bits, W * H, edge, worst_g, bad, bad_steps);
+                  "redshift %.1e, %ld mismatches, %ld steps differ, %ld monitor/delay differ\n",
+                  name, cr_cpu_simd_name(path), same_bits, W * H, edge, worst_g, bad, bad_steps,
+                  bad_book);
     cr_scene_free(&s);
-    return (int)(bad + bad_steps);
+    return (int)(bad + bad_steps + bad_book);
 }
 
 static void test_packet_matches_scalar(void **state)

@@ -5,8 +5,9 @@
  * compiled for that instruction set gets:
  *   cr_vd, cr_vm    W doubles, and W 64-bit masks (all ones or zero) as the
  *                   comparisons of two cr_vd give them
- *   cr_v_sel, cr_v_abs, cr_v_sqrt, cr_v_bc, cr_v_any: lane-wise select,
- *                   fabs, correctly rounded sqrt, broadcast, any lane set
+ *   cr_v_sel, cr_v_abs, cr_v_sqrt, cr_v_bc, cr_v_any, cr_v_bits: lane-wise
+ *                   select, fabs, correctly rounded sqrt, broadcast, any
+ *                   lane set, the set lanes as bits (lane i: bit i)
  *   the lane-generic part of mino.h (mino_lane.h) over cr_vd, each name
  *   with the suffix _v: cr_mino_v (one ray's coefficients per lane),
  *   cr_mino_rhs_v, cr_mino_monitor_v, cr_dp5_v, cr_dp5_try_v,
@@ -38,9 +39,9 @@ static inline cr_vd cr_v_sqrt(cr_vd x)
 {
     return _mm256_sqrt_pd(x);
 }
-static inline int cr_v_any(cr_vm m)
+static inline unsigned cr_v_bits(cr_vm m)
 {
-    return _mm256_movemask_pd((__m256d)m) != 0;
+    return (unsigned)_mm256_movemask_pd((__m256d)m);
 }
 #elif CR_LANES == 8
 #ifndef __AVX512F__
@@ -52,13 +53,19 @@ static inline cr_vd cr_v_sqrt(cr_vd x)
 {
     return _mm512_sqrt_pd(x);
 }
-static inline int cr_v_any(cr_vm m)
+static inline unsigned cr_v_bits(cr_vm m)
 {
-    return _mm512_test_epi64_mask((__m512i)m, (__m512i)m) != 0;
+    return (unsigned)_mm512_test_epi64_mask((__m512i)m, (__m512i)m);
 }
 #else
 #error "CR_LANES must be 4 or 8"
 #endif
+
+/* Whether any lane of mask m is set. */
+static inline int cr_v_any(cr_vm m)
+{
+    return cr_v_bits(m) != 0;
+}
 
 static inline cr_vd cr_v_sel(cr_vm m, cr_vd a, cr_vd b)
 {
@@ -84,6 +91,7 @@ static inline cr_vd cr_v_bc(double x)
 #define CR_LABS(x) cr_v_abs(x)
 #define CR_LSQRT(x) cr_v_sqrt(x)
 #define CR_LBC(x) cr_v_bc(x)
+#define CR_LANY(m) cr_v_any(m)
 #include "mino_lane.h"
 #undef CR_L
 #undef CR_LM
@@ -93,6 +101,7 @@ static inline cr_vd cr_v_bc(double x)
 #undef CR_LABS
 #undef CR_LSQRT
 #undef CR_LBC
+#undef CR_LANY
 
 /* cr_mino and cr_mino_v have the same fields, all of their lane type, in
  * the same order (both are mino_lane.h's struct). */

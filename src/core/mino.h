@@ -107,6 +107,7 @@ enum { CR_CHART_BL = 0, CR_CHART_INGOING = 1 };
 #define CR_LABS(x) fabs(x)
 #define CR_LSQRT(x) sqrt(x)
 #define CR_LBC(x) (x)
+#define CR_LANY(m) (m)
 #include "mino_lane.h"
 #undef CR_L
 #undef CR_LM
@@ -116,6 +117,7 @@ enum { CR_CHART_BL = 0, CR_CHART_INGOING = 1 };
 #undef CR_LABS
 #undef CR_LSQRT
 #undef CR_LBC
+#undef CR_LANY
 
 /* BL time t at state y (w > 0), relative to the observer's: T + S - 2M ln w
  * (top of this file). */
@@ -301,26 +303,6 @@ CR_HD static inline void cr_dp5_dense(const cr_dp5 *st, const double *y0, const 
                          d6 * k[5][i] + d7 * k[6][i]);
         ys[i] = y0[i] + s * (dy + s1 * (bs + s * (r4 + s1 * r5)));
     }
-}
-
-/* Error estimate of component i in the last step (cr_dp5_try's). */
-CR_HD static inline double cr_dp5_err_of(const cr_dp5 *st, double h, int i)
-{
-    const double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
-                 e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
-    const double (*k)[CR_MN] = st->k;
-    return h * (e1 * k[0][i] + e3 * k[2][i] + e4 * k[3][i] + e5 * k[4][i] + e6 * k[5][i] +
-                e7 * k[6][i]);
-}
-
-/* Whether the last step y0 -> y1 of size h left T unresolved: its error
- * estimate above tol (1 + (|T(y0)| + |T(y1)|)/2), the tolerance relative to
- * the scale of the time (T ~ -r_o from a static observer at r_o). */
-CR_HD static inline int cr_mino_t_unresolved(const cr_dp5 *st, const double *y0,
-                                             const double *y1, double h, double tol)
-{
-    double e = cr_dp5_err_of(st, h, CR_M_T);
-    return !(fabs(e) <= tol * (1.0 + 0.5 * (fabs(y0[CR_M_T]) + fabs(y1[CR_M_T]))));
 }
 
 /* T at fraction s of the last step y0 -> y1 of size h: T(y0) plus the

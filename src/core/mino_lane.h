@@ -14,6 +14,8 @@
  *   CR_LN(x)      the name of x for this lane (x itself for the scalar)
  *   CR_LHD        the functions' qualifiers (CR_HD for the scalar)
  *   CR_LSEL(m, a, b)  lane-wise m ? a : b (both a and b are evaluated)
+ *   CR_LANY(m)    whether any lane of mask m is set (the scalar: m itself),
+ *                 to skip a branch that no lane takes (values unchanged)
  *   CR_LABS(x), CR_LSQRT(x)  lane-wise fabs and the correctly rounded sqrt
  *   CR_LBC(x)     a double as a CR_L (broadcast)
  * Binary + - * / and comparisons between CR_L, or a CR_L and a double, are
@@ -108,11 +110,15 @@ CR_LHD static inline CR_L CR_LN(cr_mino_dT)(const CR_LN(cr_mino) *c, const CR_L 
     CR_L D = 1.0 + w * (c->d1 + c->d2 * w);
     CR_L m2 = 2.0 * c->m, poly = w * (c->c2 + w * (c->c1 + w * c->c0));
     CR_LM in = dw >= 0.5 * c->E, mid = dw > -0.5 * c->E;
+    CR_L out = m2 * (dw - c->E);
+    /* the blend only where a lane lies between the inward and outward forms */
     CR_L num = CR_LSEL(in, m2 * poly,
-                       CR_LSEL(mid,
-                               m2 * (w * poly + (0.5 - dw / c->E) *
-                                                    (dw * dw - CR_LN(cr_mino_W)(c, w))),
-                               m2 * (dw - c->E)));
+                       !CR_LANY(mid & (in == 0))
+                           ? out
+                           : CR_LSEL(mid,
+                                     m2 * (w * poly + (0.5 - dw / c->E) *
+                                                          (dw * dw - CR_LN(cr_mino_W)(c, w))),
+                                     out));
     CR_L den = CR_LSEL(in, c->E + dw, CR_LSEL(mid, w * (c->E + dw), w));
     D = CR_LSEL(D < c->d_min, c->d_min, D);
     return c->tc - c->ta * nz * nz - w * (c->tg1 + c->tg2 * w) +
@@ -126,6 +132,7 @@ CR_LHD static inline void CR_LN(cr_mino_rhs)(const CR_LN(cr_mino) *c, const CR_L
     CR_L k = c->kap + 2.0 * c->a2E2 * nz * nz;
     CR_L D = 1.0 + w * (c->d1 + c->d2 * w);
     D = CR_LSEL((D < c->d_min) & (c->chart == CR_CHART_BL), c->d_min, D);
+    CR_L bl = c->a * w * (c->p1 + c->p2 * w) / D;
     dy[CR_M_W] = y[CR_M_DW];
     dy[CR_M_DW] = 0.5 * c->c3 + w * (c->c2 + w * (1.5 * c->c1 + 2.0 * c->c0 * w));
     dy[CR_M_NX] = y[CR_M_DNX];
@@ -134,9 +141,11 @@ CR_LHD static inline void CR_LN(cr_mino_rhs)(const CR_LN(cr_mino) *c, const CR_L
     dy[CR_M_DNX] = -k * y[CR_M_NX];
     dy[CR_M_DNY] = -k * y[CR_M_NY];
     dy[CR_M_DNZ] = (c->a2E2 - k) * nz;
-    dy[CR_M_PR] = CR_LSEL(c->chart == CR_CHART_INGOING,
-                          c->a * (c->E - w * w * CR_LN(cr_mino_ingoing_q)(c, y)),
-                          c->a * w * (c->p1 + c->p2 * w) / D);
+    /* the ingoing chart's rate only where a lane is in that chart */
+    dy[CR_M_PR] = !CR_LANY(c->chart == CR_CHART_INGOING)
+                      ? bl
+                      : CR_LSEL(c->chart == CR_CHART_INGOING,
+                          c->a * (c->E - w * w * CR_LN(cr_mino_ingoing_q)(c, y)), bl);
     dy[CR_M_T] = CR_LN(cr_mino_dT)(c, y);
 }
 
@@ -161,6 +170,17 @@ typedef struct CR_LN(cr_dp5) {
     CR_L k[7][CR_MN];
 } CR_LN(cr_dp5);
 
+/* Error estimate of component i in the step of size h with stages st (the
+ * difference of the 5th- and 4th-order solutions). */
+CR_LHD static inline CR_L CR_LN(cr_dp5_err_of)(const CR_LN(cr_dp5) *st, CR_L h, int i)
+{
+    const double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
+                 e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
+    const CR_L(*k)[CR_MN] = st->k;
+    return h * (e1 * k[0][i] + e3 * k[2][i] + e4 * k[3][i] + e5 * k[4][i] + e6 * k[5][i] +
+                e7 * k[6][i]);
+}
+
 /* One trial step of size h from y0 with st->k[0] = f(y0): fills the other
  * stages and y1, and returns the error estimate scaled by the tolerance
  * (accept when <= 1; NaN or INFINITY when the step failed). Error scales per
@@ -179,8 +199,6 @@ CR_LHD static inline CR_L CR_LN(cr_dp5_try)(const CR_LN(cr_mino) *c, double tol,
                  a64 = 49.0 / 176.0, a65 = -5103.0 / 18656.0;
     const double b1 = 35.0 / 384.0, b3 = 500.0 / 1113.0, b4 = 125.0 / 192.0,
                  b5 = -2187.0 / 6784.0, b6 = 11.0 / 84.0;
-    const double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
-                 e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
     CR_L (*k)[CR_MN] = st->k;
     CR_L t[CR_MN];
     CR_L err = CR_LBC(0.0), sc[CR_MN]; /* 1 / (tol * scale) */
@@ -220,9 +238,7 @@ CR_LHD static inline CR_L CR_LN(cr_dp5_try)(const CR_LN(cr_mino) *c, double tol,
         sc[CR_M_DNX] = sc[CR_M_DNY] = sc[CR_M_DNZ] = itol / c->omega;
     }
     for (i = 0; i < CR_M_NERR; i++) {
-        CR_L e = h * (e1 * k[0][i] + e3 * k[2][i] + e4 * k[3][i] + e5 * k[4][i] +
-                      e6 * k[5][i] + e7 * k[6][i]);
-        CR_L r = CR_LABS(e) * sc[i];
+        CR_L r = CR_LABS(CR_LN(cr_dp5_err_of)(st, h, i)) * sc[i];
         err = CR_LSEL(r <= err, err, r); /* also propagates NaN */
     }
     return err;
@@ -253,6 +269,17 @@ CR_LHD static inline CR_LM CR_LN(cr_dp5_control)(CR_L err, CR_LM retried, CR_L *
     *h_next = CR_LSEL(ok, *h * grow, *h_next);
     *h = CR_LSEL(ok, *h, *h * fac);
     return ok;
+}
+
+/* Whether the last step y0 -> y1 of size h (stages st) left T unresolved:
+ * its error estimate above tol (1 + (|T(y0)| + |T(y1)|)/2), the tolerance
+ * relative to the scale of the time (T ~ -r_o from a static observer at
+ * r_o); a NaN estimate counts as unresolved. */
+CR_LHD static inline CR_LM CR_LN(cr_mino_t_unresolved)(const CR_LN(cr_dp5) *st, const CR_L *y0,
+                                                       const CR_L *y1, CR_L h, double tol)
+{
+    CR_L e = CR_LN(cr_dp5_err_of)(st, h, CR_M_T);
+    return (CR_LABS(e) <= tol * (1.0 + 0.5 * (CR_LABS(y0[CR_M_T]) + CR_LABS(y1[CR_M_T])))) == 0;
 }
 
 /* Whether state y is beyond the sky radius w_sky moving outward (the Mino

@@ -2,26 +2,33 @@
  * CR_LANES=4 for AVX2 and CR_LANES=8 for AVX-512F (src/render/CMakeLists.txt),
  * and -ffp-contract=off so that every lane rounds as the scalar code does.
  *
- * A packet is W lanes, each one ray: the Mino state, its step's stages and
- * step sizes in vectors (lanes.h: the lane instance of mino_lane.h), and
- * beside each lane the scalar side of its ray (cr_ray with its constants
- * and observer momentum, the pixel being made, the error monitor, the step
- * and retry counts). Each round makes one DP5 try in every lane; then lane
- * by lane, as cr_trace_loop (trace.h) does for one ray:
+ * A packet is W lanes, each one ray: the Mino state, its step's stages, its
+ * step sizes and its bookkeeping (accepted steps, rejected tries, turns,
+ * disc crossings and polar turning points, the error monitor) in vectors
+ * (lanes.h: the lane instance of mino_lane.h), and beside each lane the
+ * scalar side of its ray (cr_ray with its constants and observer momentum,
+ * the pixel being made). Each round makes one DP5 try in every lane and
+ * decides, in vectors, what cr_trace_loop (trace.h) does for one ray:
  *   rejected: retry smaller next round (an error after CR_DP5_MAX_RETRIES);
- *   accepted: a step that may hold an event (it may cross the disc's plane,
- *     or the scene has spheres) goes through cr_trace_after_step on the
- *     lane's ray (its step copied out of the vectors); one that leaves the
- *     sky radius through cr_trace_move; any other moves to its end in the
- *     vectors (its crossing and turning point counted as cr_trace_count
- *     counts them, from the lane-wise event values); then the ends and the monitor of cr_trace_ends at the new
- *     state, in its order, from the lane-wise predicates of mino_lane.h
- *     (shading on the lane's ray).
- * A ray's start, its first ends (at 0 steps), every shading and every event
- * are the scalar core functions; the per-step formulas are mino_lane.h's.
+ *   accepted: T by quadrature where the step left it unresolved
+ *     (cr_ray_time_step's test); a step that may hold an event (it may
+ *     cross the disc's plane, or the scene has spheres) goes through
+ *     cr_trace_after_step on the lane's ray (its step copied out of the
+ *     vectors); one that leaves the sky radius through cr_trace_move; any
+ *     other moves to its end in the vectors, its crossing and turning point
+ *     counted as cr_trace_count counts them; then the ends and the monitor of
+ *     cr_trace_ends at the new state, in its order, from the lane-wise
+ *     predicates of mino_lane.h.
+ * Only the lanes with something scalar to do (an event, the sky cut, a
+ * quadrature, an end) are visited one by one; an ended lane hands its pixel
+ * over and takes the feed's next pixel at once (the feed runs on across
+ * rows). A ray's start, its first ends (at 0 steps), every shading and every
+ * event are the scalar core functions; the per-step formulas are
+ * mino_lane.h's.
  */
 #include "cpu_packet.h"
 
+#include <float.h>
 #include <string.h>
 
 #include "../core/lanes.h"
@@ -40,11 +47,9 @@
 typedef struct pk_lane {
     cr_ray ray; /* constants, observer momentum; the step copied out at events */
     cr_pixel px;
-    cr_monitor mon;
+    cr_monitor mon; /* the monitor, out of the vectors at the ray's end */
     double x0[3];
-    long steps;
-    int tries; /* rejected tries of the current step */
-    int i, j;  /* the pixel; i < 0: the lane is idle */
+    int i, j; /* the pixel; i < 0: the lane is idle */
 } pk_lane;
 
 typedef struct pk_packet {
@@ -52,11 +57,15 @@ typedef struct pk_packet {
     cr_vd m[CR_MN], m1[CR_MN];
     cr_dp5_v st;
     cr_vd h, h_next, turns;
+    cr_vd steps, tries;            /* accepted steps; rejected tries of this step */
+    cr_vd mon_n, mon_mean, mon_m2; /* the error monitor (cr_monitor) */
+    cr_vm n_cross, n_turn;         /* cr_ray.n_cross, n_turn */
+    cr_vm live;                    /* lanes with a ray */
     pk_lane lane[PK_W];
 } pk_packet;
 
-/* Copy lane l's current step (start, end, stages, size) into its ray. */
-static void pk_scatter_step(pk_packet *p, int l)
+/* Copy lane l's current step (start, end, stages, size h) into its ray. */
+static void pk_scatter_step(pk_packet *p, int l, double h)
 {
     cr_ray *r = &p->lane[l].ray;
     int k, s;
@@ -66,37 +75,7 @@ static void pk_scatter_step(pk_packet *p, int l)
         for (s = 0; s < 7; s++)
             r->st.k[s][k] = p->st.k[s][k][l];
     }
-    r->hm = p->h[l];
-}
-
-/* cr_ray_time_step (ray.h) for lane l's accepted step: the same test on
- * the lane's values (cr_mino_t_unresolved's estimate, term for term), and
- * only where it holds the step copied out for the quadrature. */
-static void pk_time_step(const cr_frame *f, pk_packet *p, int l)
-{
-    cr_ray *r = &p->lane[l].ray;
-    cr_dp5 st;
-    double y0[CR_MN], y1[CR_MN];
-    int k, s;
-    r->t_quad = 0;
-    if (p->m1[CR_M_DW][l] < 0.0 && p->m1[CR_M_W][l] < f->w_obj)
-        return;
-    for (s = 0; s < 7; s++)
-        st.k[s][CR_M_T] = p->st.k[s][CR_M_T][l];
-    y0[CR_M_T] = p->m[CR_M_T][l];
-    y1[CR_M_T] = p->m1[CR_M_T][l];
-    if (!cr_mino_t_unresolved(&st, y0, y1, p->h[l], f->tolerance))
-        return;
-    for (k = 0; k < CR_MN; k++) {
-        r->m[k] = p->m[k][l];
-        r->m1[k] = p->m1[k][l];
-        for (s = 0; s < 7; s++)
-            r->st.k[s][k] = p->st.k[s][k][l];
-    }
-    r->hm = p->h[l];
-    r->t_quad = 1;
-    r->m1[CR_M_T] = cr_mino_t_quad(&r->c, &r->st, r->m, r->m1, r->hm, 1.0);
-    p->m1[CR_M_T][l] = r->m1[CR_M_T];
+    r->hm = h;
 }
 
 /* Lane l's state (and the first stage there) from its ray. */
@@ -108,6 +87,32 @@ static void pk_gather_state(pk_packet *p, int l)
         p->m[k][l] = r->m[k];
         p->st.k[0][k][l] = r->st.k[0][k];
     }
+}
+
+/* Lane l's counts into its ray (for the scalar code), and back. */
+static void pk_counts_out(pk_packet *p, int l)
+{
+    p->lane[l].ray.n_cross = (int)p->n_cross[l];
+    p->lane[l].ray.n_turn = (int)p->n_turn[l];
+}
+
+static void pk_counts_in(pk_packet *p, int l)
+{
+    p->n_cross[l] = p->lane[l].ray.n_cross;
+    p->n_turn[l] = p->lane[l].ray.n_turn;
+}
+
+/* cr_monitor_add in the lanes of mask on, for the monitor values e. */
+static void pk_monitor_add(pk_packet *p, cr_vm on, cr_vd e)
+{
+    cr_vm use = on & (e >= 0.0) & (e <= DBL_MAX); /* e >= 0 and finite */
+    cr_vd n = p->mon_n + 1.0;
+    cr_vd d = e - p->mon_mean;
+    cr_vd mean = p->mon_mean + d / n;
+    cr_vd m2 = p->mon_m2 + d * (e - mean);
+    p->mon_n = cr_v_sel(use, n, p->mon_n);
+    p->mon_mean = cr_v_sel(use, mean, p->mon_mean);
+    p->mon_m2 = cr_v_sel(use, m2, p->mon_m2);
 }
 
 /* Start lanes l's next ray: the feed's pixels in turn, each traced at once
@@ -133,8 +138,6 @@ static void pk_load(const cr_frame *f, pk_packet *p, int l, const cr_pixel_feed 
         cr_trace_start(f, r, &ln->px, ln->x0);
         ln->mon.n = 0;
         ln->mon.mean = ln->mon.m2 = 0.0;
-        ln->steps = 0;
-        ln->tries = 0;
         if (cr_trace_ends(f, r, &ln->px, &ln->mon, 0, 0.0)) {
             cr_trace_done(r, &ln->px, 0, &ln->mon);
             feed->done(feed->ctx, i, j, &ln->px);
@@ -144,19 +147,29 @@ static void pk_load(const cr_frame *f, pk_packet *p, int l, const cr_pixel_feed 
         pk_gather_state(p, l);
         p->h[l] = p->h_next[l] = r->h_next;
         p->turns[l] = 0.0;
+        p->steps[l] = p->tries[l] = 0.0;
+        p->mon_n[l] = (double)ln->mon.n;
+        p->mon_mean[l] = ln->mon.mean;
+        p->mon_m2[l] = ln->mon.m2;
+        pk_counts_in(p, l);
+        p->live[l] = -1;
         ln->i = i;
         ln->j = j;
         return;
     }
+    p->live[l] = 0;
     ln->i = -1;
 }
 
-/* Lane l's ray has ended (its pixel is set): hand the pixel over, take the
- * next. */
+/* Lane l's ray has ended (its pixel and its ray's counts are set): its cost
+ * and monitor into the pixel, the pixel handed over, the next one taken. */
 static void pk_finish(const cr_frame *f, pk_packet *p, int l, const cr_pixel_feed *feed)
 {
     pk_lane *ln = &p->lane[l];
-    cr_trace_done(&ln->ray, &ln->px, ln->steps, &ln->mon);
+    ln->mon.n = (long)p->mon_n[l];
+    ln->mon.mean = p->mon_mean[l];
+    ln->mon.m2 = p->mon_m2[l];
+    cr_trace_done(&ln->ray, &ln->px, (long)p->steps[l], &ln->mon);
     feed->done(feed->ctx, ln->i, ln->j, &ln->px);
     pk_load(f, p, l, feed);
 }
@@ -164,7 +177,7 @@ static void pk_finish(const cr_frame *f, pk_packet *p, int l, const cr_pixel_fee
 void PK_FN(cr_packet_trace)(const cr_frame *f, const cr_pixel_feed *feed)
 {
     pk_packet p;
-    int l, live;
+    int l;
     if (f->samples >= 2 && f->samples <= CR_MAX_SAMPLES) {
         /* antialiasing: the scalar tracer, pixel by pixel */
         int i, j;
@@ -177,18 +190,12 @@ void PK_FN(cr_packet_trace)(const cr_frame *f, const cr_pixel_feed *feed)
     memset(&p, 0, sizeof p);
     for (l = 0; l < PK_W; l++)
         pk_load(f, &p, l, feed);
-    for (;;) {
-        cr_vm retried, ok, cross, cut, hor, esc, n_cross, n_turn;
-        cr_vm moved; /* lanes whose step ends in the vectors */
-        cr_vm check; /* lanes whose new state is checked for the ends */
-        cr_vd err, turned, mon;
-        live = 0;
-        for (l = 0; l < PK_W; l++) {
-            live |= p.lane[l].i >= 0;
-            retried[l] = p.lane[l].tries > 0 ? -1 : 0;
-        }
-        if (!live)
-            break;
+    while (cr_v_any(p.live)) {
+        cr_vm retried, ok, cross, cut, n_cross, n_turn, acc, rej, fail, quad, ev, moved;
+        cr_vm check, hor, esc, lim;
+        cr_vd err, turned, hstep;
+        unsigned bits;
+        retried = p.tries > 0.0;
         err = cr_dp5_try_v(&p.c, f->tolerance, p.h, p.m, &p.st, p.m1);
         ok = cr_dp5_control_v(err, retried, &p.h, &p.h_next);
         cross = cr_mino_may_cross_equator_v(p.m, p.m1);
@@ -196,50 +203,60 @@ void PK_FN(cr_packet_trace)(const cr_frame *f, const cr_pixel_feed *feed)
         turned = p.turns + cr_mino_turns_v(p.m, p.m1);
         n_cross = cr_sign_change_v(cr_mino_disc_value_v(p.m), cr_mino_disc_value_v(p.m1));
         n_turn = cr_sign_change_v(cr_mino_polar_rate_v(p.m), cr_mino_polar_rate_v(p.m1));
-        moved = ok & 0;
-        check = moved;
-        for (l = 0; l < PK_W; l++) {
-            pk_lane *ln = &p.lane[l];
-            if (ln->i < 0)
-                continue;
-            if (!ok[l]) {
-                if (ln->tries == CR_DP5_MAX_RETRIES || !(p.h[l] > 0.0)) {
-                    ln->px.outcome = CR_OUT_ERROR;
-                    pk_finish(f, &p, l, feed);
-                } else {
-                    ln->tries++;
-                }
-                continue;
+        acc = p.live & ok;
+        rej = p.live & ~ok;
+        /* a rejected try: the retry next round, or the error (cr_ray_advance) */
+        fail = rej & ((p.tries == (double)CR_DP5_MAX_RETRIES) | ((p.h > 0.0) == 0));
+        p.tries = cr_v_sel(rej, p.tries + 1.0, cr_v_bc(0.0));
+        p.steps = cr_v_sel(acc, p.steps + 1.0, p.steps);
+        hstep = p.h; /* an accepted lane's step */
+        /* the next try: an accepted step's successor, a rejected one's retry */
+        p.h = cr_v_sel(ok, p.h_next, p.h);
+        /* cr_ray_time_step's test: T by quadrature where still needed */
+        quad = acc & (((p.m1[CR_M_DW] < 0.0) & (p.m1[CR_M_W] < f->w_obj)) == 0) &
+               cr_mino_t_unresolved_v(&p.st, p.m, p.m1, hstep, f->tolerance);
+        if (f->n_spheres > 0)
+            ev = acc;
+        else if (f->disc.enabled)
+            ev = acc & cross;
+        else
+            ev = acc & 0;
+        cut &= acc & ~ev;
+        moved = acc & ~ev & ~cut;
+        check = acc;
+        /* the lanes with scalar work in this step, one by one */
+        for (bits = cr_v_bits(quad | ev | cut); bits; bits &= bits - 1) {
+            pk_lane *ln;
+            double t;
+            l = __builtin_ctz(bits);
+            ln = &p.lane[l];
+            pk_scatter_step(&p, l, hstep[l]);
+            ln->ray.t_quad = quad[l] != 0;
+            if (quad[l]) {
+                cr_ray *r = &ln->ray;
+                r->m1[CR_M_T] = cr_mino_t_quad(&r->c, &r->st, r->m, r->m1, r->hm, 1.0);
+                p.m1[CR_M_T][l] = r->m1[CR_M_T];
             }
-            ln->tries = 0;
-            ln->steps++;
-            pk_time_step(f, &p, l);
-            if (f->n_spheres > 0 || (f->disc.enabled && cross[l])) {
-                double t = p.turns[l];
-                pk_scatter_step(&p, l);
+            if (!ev[l] && !cut[l])
+                continue; /* moves in the vectors */
+            t = p.turns[l];
+            pk_counts_out(&p, l);
+            if (ev[l]) {
                 if (cr_trace_after_step(f, &ln->ray, &ln->px, ln->x0, &t)) {
+                    check[l] = 0;
                     pk_finish(f, &p, l, feed);
                     continue;
                 }
-                pk_gather_state(&p, l);
-                p.turns[l] = t;
-            } else if (cut[l]) {
-                double t = p.turns[l];
-                pk_scatter_step(&p, l);
-                cr_trace_move(f, &ln->ray, &t);
-                pk_gather_state(&p, l);
-                p.turns[l] = t;
             } else {
-                /* cr_trace_move in the vectors: the counts here, the commit below */
-                ln->ray.n_cross += n_cross[l] != 0;
-                ln->ray.n_turn += n_turn[l] != 0;
-                moved[l] = -1;
+                cr_trace_move(f, &ln->ray, &t);
             }
-            check[l] = -1;
+            pk_counts_in(&p, l);
+            pk_gather_state(&p, l);
+            p.turns[l] = t;
         }
-        /* the next try: an accepted step's successor (a lane started this
-         * round has h = h_next already), a rejected one's retry */
-        p.h = cr_v_sel(ok, p.h_next, p.h);
+        /* cr_trace_move in the vectors: the counts, the commit */
+        p.n_cross -= moved & n_cross;
+        p.n_turn -= moved & n_turn;
         {
             int k;
             for (k = 0; k < CR_MN; k++) {
@@ -248,32 +265,32 @@ void PK_FN(cr_packet_trace)(const cr_frame *f, const cr_pixel_feed *feed)
             }
             p.turns = cr_v_sel(moved, turned, p.turns);
         }
-        if (!cr_v_any(check))
-            continue;
         /* cr_trace_ends at the new states, lane-wise */
-        hor = cr_mino_at_horizon_v(p.m, f->w_stop);
-        esc = cr_mino_escaping_v(p.m, f->w_sky);
-        mon = cr_mino_monitor_v(&p.c, p.m);
-        for (l = 0; l < PK_W; l++) {
-            pk_lane *ln = &p.lane[l];
-            if (!check[l])
-                continue;
-            if (hor[l]) {
+        hor = check & cr_mino_at_horizon_v(p.m, f->w_stop);
+        check &= ~hor;
+        if (cr_v_any(check))
+            pk_monitor_add(&p, check, cr_mino_monitor_v(&p.c, p.m));
+        esc = check & cr_mino_escaping_v(p.m, f->w_sky);
+        lim = check & ~esc &
+              ((p.steps >= (double)f->max_steps) | (p.turns >= f->max_turns));
+        for (bits = cr_v_bits(fail | hor | esc | lim); bits; bits &= bits - 1) {
+            pk_lane *ln;
+            l = __builtin_ctz(bits);
+            ln = &p.lane[l];
+            pk_counts_out(&p, l);
+            if (fail[l]) {
+                ln->px.outcome = CR_OUT_ERROR;
+            } else if (hor[l]) {
                 cr_trace_horizon(f, &ln->px);
-                pk_finish(f, &p, l, feed);
-                continue;
-            }
-            cr_monitor_add(&ln->mon, mon[l]);
-            if (esc[l]) {
+            } else if (esc[l]) {
                 int k;
                 for (k = 0; k < CR_MN; k++)
                     ln->ray.m[k] = p.m[k][l];
                 cr_sky_shade(f, &ln->ray, &ln->px);
-                pk_finish(f, &p, l, feed);
-            } else if (ln->steps >= f->max_steps || p.turns[l] >= f->max_turns) {
+            } else {
                 cr_trace_limit(f, &ln->px);
-                pk_finish(f, &p, l, feed);
             }
+            pk_finish(f, &p, l, feed);
         }
     }
 }
