@@ -13,33 +13,38 @@
 #       key): BIN against this curray; steps per ray from info.txt.
 #   (c) `make demo`'s render (scenes/demo.yml, 640 x 480, every core): this
 #       curray with cpu.simd off and auto, and with --before BIN that one.
+#   With --packets-before BIN (another curray with the packet path, e.g. an
+#   older commit's), table (a) has BIN's AVX2 and auto paths too, in the same
+#   interleaved runs.
 # Every case runs --runs times (5), interleaved (case 1, case 2, ..., case 1,
 # ...), each a whole process timed by bench/timecmd.py (wall, user + sys CPU
 # from wait4); the report gives medians and the ratios of the medians, and
 # the 1-minute load average before and after.
 #
 # Usage: bench/packets.sh [--runs N] [--size N] [--dsize N] [--before BIN]
-#                         [--out PREFIX]
+#                         [--packets-before BIN] [--out PREFIX]
 # Environment: CURRAY_BIN (default build-bench/curray, built when missing).
 # Output: the report (markdown) on stdout and in PREFIX.md with the raw runs
 # in PREFIX-runs.csv (default bench/results/packets-<date>).
 set -euo pipefail
 . "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
-runs=5 size=120 dsize=200 before="" out=""
+runs=5 size=120 dsize=200 before="" pbefore="" out=""
 while [ $# -gt 0 ]; do
     case $1 in
     --runs) runs=$2; shift 2 ;;
     --size) size=$2; shift 2 ;;
     --dsize) dsize=$2; shift 2 ;;
     --before) before=$2; shift 2 ;;
+    --packets-before) pbefore=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
-    -h | --help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) die "unknown option '$1' (see --help)" ;;
     esac
 done
 [[ $runs =~ ^[1-9][0-9]*$ ]] || die "--runs needs a positive integer, got '$runs'"
 bench_ensure_binary cpu
 [ -z "$before" ] || [ -x "$before" ] || die "--before $before is not an executable"
+[ -z "$pbefore" ] || [ -x "$pbefore" ] || die "--packets-before $pbefore is not an executable"
 out=${out:-$BENCH_DIR/results/packets-$(date -u +%Y%m%d-%H%M)}
 mkdir -p "$(dirname "$out")"
 work=$(mktemp -d)
@@ -56,6 +61,10 @@ cases=("a-scalar|$CURRAY|$S/mino-r100.yml|$work/off.yml|$size|1|"
        "a-auto|$CURRAY|$S/mino-r100.yml|$work/auto.yml|$size|1|"
        "c-scalar|$CURRAY|$D|$work/off.yml|640x480|0|"
        "c-auto|$CURRAY|$D|$work/auto.yml|640x480|0|")
+if [ -n "$pbefore" ]; then
+    cases+=("a-pb-avx2|$pbefore|$S/mino-r100.yml|$work/auto.yml|$size|1|CURRAY_TEST_CPU_FEATURES=avx2"
+            "a-pb-auto|$pbefore|$S/mino-r100.yml|$work/auto.yml|$size|1|")
+fi
 # the older binary on the scalar path too when it knows cpu.simd
 bcfg=$work/empty.yml
 if [ -n "$before" ] && "$before" -s "$S/mino-r100.yml" -c "$work/off.yml" -o "$work/probe" -x 1 -y 1 \
@@ -105,9 +114,12 @@ print(f"Machine: {mach}; 1-minute load {l0} before, {l1} after; {runs} runs per 
 print(f"(a) A100 scene, {size}x{size}, 1 thread\n")
 print("| path | CPU s | wall s | CPU vs scalar | wall vs scalar | steps/ray |")
 print("| --- | ---: | ---: | ---: | ---: | ---: |")
-for name, label in (("a-scalar", "scalar (cpu.simd: off)"), ("a-avx2", "AVX2, 4 lanes"), ("a-auto", "auto (widest)")):
+for name, label in (("a-scalar", "scalar (cpu.simd: off)"), ("a-avx2", "AVX2, 4 lanes"), ("a-auto", "auto (widest)"),
+                    ("a-pb-avx2", "--packets-before, AVX2"), ("a-pb-auto", "--packets-before, auto")):
+    if name not in by:
+        continue
     c, w = med(name, "cpu_s"), med(name, "wall_s")
-    print(f"| {label} | {c:.3f} | {w:.3f} | {med('a-scalar','cpu_s')/c:.2f}x fewer | {med('a-scalar','wall_s')/w:.2f}x | {by[name][0]['steps_per_ray']} |")
+    print(f"| {label} | {c:.4f} | {w:.4f} | {med('a-scalar','cpu_s')/c:.2f}x fewer | {med('a-scalar','wall_s')/w:.2f}x | {by[name][0]['steps_per_ray']} |")
 print(f"\n(c) make demo's render (scenes/demo.yml, 640x480, every core)\n")
 print("| curray | CPU s | wall s | steps/ray |")
 print("| --- | ---: | ---: | ---: |")

@@ -24,21 +24,33 @@ def main():
     out, cmd = sys.argv[1], sys.argv[3:]
     with open(out + ".log", "wb") as log:
         t0 = time.perf_counter()
-        try:
-            pid = os.fork()
-        except OSError as e:
-            sys.stderr.write("timecmd.py: fork: %s\n" % e)
-            return 127
-        if pid == 0:
+        if hasattr(os, "posix_spawnp"):
+            # posix_spawn (vfork-like): the child runs no Python, so its CPU
+            # time is the command's own (a fork of this interpreter adds about
+            # 1.5 ms of copy-on-write page faults to the child's rusage)
+            fa = [(os.POSIX_SPAWN_DUP2, log.fileno(), 1), (os.POSIX_SPAWN_DUP2, log.fileno(), 2),
+                  (os.POSIX_SPAWN_OPEN, 0, os.devnull, os.O_RDONLY, 0)]
             try:
-                os.dup2(log.fileno(), 1)
-                os.dup2(log.fileno(), 2)
-                devnull = os.open(os.devnull, os.O_RDONLY)
-                os.dup2(devnull, 0)
-                os.execvp(cmd[0], cmd)
+                pid = os.posix_spawnp(cmd[0], cmd, os.environ, file_actions=fa)
             except OSError as e:
-                os.write(2, ("timecmd.py: cannot run %s: %s\n" % (cmd[0], e)).encode())
-            os._exit(127)
+                sys.stderr.write("timecmd.py: cannot run %s: %s\n" % (cmd[0], e))
+                return 127
+        else:
+            try:
+                pid = os.fork()
+            except OSError as e:
+                sys.stderr.write("timecmd.py: fork: %s\n" % e)
+                return 127
+            if pid == 0:
+                try:
+                    os.dup2(log.fileno(), 1)
+                    os.dup2(log.fileno(), 2)
+                    devnull = os.open(os.devnull, os.O_RDONLY)
+                    os.dup2(devnull, 0)
+                    os.execvp(cmd[0], cmd)
+                except OSError as e:
+                    os.write(2, ("timecmd.py: cannot run %s: %s\n" % (cmd[0], e)).encode())
+                os._exit(127)
         _, status, ru = os.wait4(pid, 0)
         t1 = time.perf_counter()
     if os.WIFEXITED(status):
