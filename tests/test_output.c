@@ -726,8 +726,10 @@ static void test_csv_roundtrip(void **state)
         assert_int_equal(sscanf(line, "%d,%d,%u,%u,%u,%u,%lf,%lf,%lf,%31[a-z],%lf,%lf%n", &x, &y,
                                 &r, &g, &b, &steps, &z, &em, &es, name, &hr, &hp, &n_hit),
                          12);
-        /* then the bolometric column: -1 except on a Keplerian disc hit */
-        if (!(px[i].outcome == CR_OUT_DISC && px[i].bolo >= 0.0))
+        /* then the bolometric column: -1 except on a Keplerian disc or a
+         * moving sphere hit */
+        if (!((px[i].outcome == CR_OUT_DISC || px[i].outcome == CR_OUT_SPHERE) &&
+              px[i].bolo >= 0.0))
             assert_memory_equal(line + n_hit, ",-1,", 4);
         /* the counts, as the pixel holds them, then the delay: nan except on a
          * disc or sphere hit, where it reads back exactly */

@@ -162,6 +162,15 @@ typedef struct cr_sphere {
     double radius;
     double center[3];
     double axes[3][3];
+    /* Motion (sphere.motion; sphere.h): moving = 0 is the paper's static
+     * sphere (no time enters). moving = 1: the sphere turns rigidly about the
+     * polar axis at omega = dphi/dt (1/M; the Keplerian circular orbit's
+     * angular velocity for motion: orbit, 0 for a sphere at rest that is
+     * still traced with the light's travel time): at BL coordinate time t it
+     * is the sphere above (its phi the phase at t = 0) turned by omega t
+     * about the polar axis. */
+    int moving;
+    double omega;
 } cr_sphere;
 
 /* An equirectangular sky texture, rgb[3 * (y * width + x)], row y = 0 at the
@@ -236,6 +245,11 @@ typedef struct cr_frame {
     cr_rgb other_side_color; /* rays that end as CR_OUT_OTHER_SIDE */
     cr_rgb singularity_color; /* rays that end as CR_OUT_SINGULARITY */
     int width, height;
+    double t_obs;           /* the observer's BL coordinate time of the frame
+                               (observer.t, units of M; renormalised as
+                               cr_ray_delay for the observer at infinity):
+                               a moving sphere is met at t_obs - the ray's
+                               delay (sphere.h); 0 when nothing moves */
 
     /* raytracer settings (system configuration; their defaults and limits:
        src/input/settings.def) */
@@ -306,7 +320,10 @@ typedef struct cr_pixel {
     double hit_r, hit_phi;
     double bolo; /* Keplerian disc hits: the bolometric brightness g^4 F(r) /
                     F_max (cr_bolometric; F_max the disc's peak flux), 0 on
-                    plunging matter; -1 for every other outcome or disc */
+                    plunging matter; moving sphere hits: g^4, the
+                    bolometric intensity of a surface of unit intensity in
+                    its rest frame (sphere.h); -1 for every other outcome,
+                    disc or sphere */
     double delay; /* disc and sphere hits: the coordinate-time delay t_obs - t
                      of the light from the hit (cr_ray_delay; renormalised for
                      the observer at infinity); NaN for every other outcome */

@@ -25,8 +25,8 @@
 
 /* Express every length of a frame in units of M (DESIGN "Conventions"), so
  * that an image never depends on the choice of M: divides the metric, the
- * observer's r and image-plane extents, the disc radii and the sky boundary
- * by M, and sets M = 1. Spheres are scaled by cr_sphere_to_units_of_m.
+ * observer's r and image-plane extents, the disc radii, the sky boundary and
+ * the observer's time by M, and sets M = 1. Spheres are scaled by cr_sphere_to_units_of_m.
  * The dimensionless settings (horizon_epsilon, step_multiplier, tolerance)
  * are read in units of M. Call before cr_frame_prepare. */
 CR_HD static inline void cr_frame_to_units_of_m(cr_frame *f)
@@ -41,15 +41,18 @@ CR_HD static inline void cr_frame_to_units_of_m(cr_frame *f)
     f->disc.r_in *= k;
     f->disc.r_out *= k;
     f->sky_boundary *= k;
+    f->t_obs *= k;
 }
 
-/* The same for a sphere prepared (cr_sphere_prepare) on a metric of mass m. */
+/* The same for a sphere prepared (cr_sphere_prepare) on a metric of mass m
+ * (its angular velocity, a rate, is multiplied by m). */
 CR_HD static inline void cr_sphere_to_units_of_m(cr_sphere *s, double m)
 {
     double k = 1.0 / m;
     int i;
     s->r *= k;
     s->radius *= k;
+    s->omega *= m; /* 1 / time */
     for (i = 0; i < 3; i++)
         s->center[i] *= k;
 }

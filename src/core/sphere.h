@@ -63,125 +63,349 @@ CR_HD static inline cr_rgb cr_sphere_color(const cr_sphere *s, const double x[3]
                     s->color);
 }
 
-/* Value of sphere k's surface function (cr_sphere_f) at state y of the
- * ray's integrator. */
-CR_HD static inline double cr_sphere_value(const cr_frame *f, const cr_ray *ray, int k,
+/* ---- moving spheres (cr_sphere.moving) -----------------------------------
+ *
+ * A moving sphere turns rigidly about the polar axis at omega = dphi/dt: at
+ * BL coordinate time t it is the prepared sphere (its phi the phase at t = 0)
+ * turned by omega t, and each of its points moves on phi = phi_0 + omega t
+ * at fixed (r, theta), with 4-velocity u = u^t (1, 0, 0, omega) (a Killing
+ * flow; for motion: orbit omega is the Keplerian circular orbit's at the
+ * centre's r, so the centre moves on that geodesic and u there is the
+ * orbit's). A ray meets it where it WAS when the ray passed: the state at
+ * fraction s of a step is at BL time t = t_obs - cr_ray_delay_at(ray, s, y)
+ * (the ray's own coordinate time), and the sphere is looked for there in
+ * its own coordinates (cr_sphere_unturn: the point turned back by
+ * -omega t), where it is the static prepared sphere. */
+
+/* Largest angle (rad) a moving sphere turns through over one piece of a
+ * step in which its hits are looked for (cr_sphere_events): the step is cut
+ * into at most CR_SPHERE_MAX_PIECES pieces of at most this turn, and in
+ * each piece the sphere is found as a static one is over a whole step. */
+#define CR_SPHERE_MAX_TURN 0.1
+#define CR_SPHERE_MAX_PIECES 64
+
+/* The 4-velocity u^mu (BL) of a moving sphere's matter at (r, th): rigid
+ * rotation at omega, u = u^t (1, 0, 0, omega) with u^t = 1 / sqrt(-(g_tt +
+ * 2 omega g_tph + omega^2 g_phph)); the static observer's for omega = 0.
+ * Returns 1, or 0 where that is not timelike (the matter would move at or
+ * beyond the speed of light there; u untouched). */
+CR_HD static inline int cr_sphere_velocity(const cr_metric *mt, double omega, double r,
+                                           double th, double u[4])
+{
+    cr_metric_point q;
+    double n;
+    cr_metric_eval(mt, r, th, &q);
+    n = -(q.g_tt + omega * (2.0 * q.g_tph + omega * q.g_phph));
+    if (!(n > 0.0) || !cr_isfinite(n))
+        return 0;
+    u[0] = 1.0 / sqrt(n);
+    u[1] = u[2] = 0.0;
+    u[3] = omega * u[0];
+    return 1;
+}
+
+/* BL r and theta of Cartesian point x (2.2.8): the root r^2 = (R2 +
+ * sqrt(R2^2 + 4 a^2 z^2)) / 2, R2 = |x|^2 - a^2, of rho^2 / (r^2 + a^2) +
+ * z^2 / r^2 = 1, and cos theta = z / r (theta = pi/2 on the disc r = 0). */
+CR_HD static inline void cr_sphere_cart_to_bl(double a, const double x[3], double *r,
+                                              double *th)
+{
+    double R2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2] - a * a;
+    double r2 = 0.5 * (R2 + sqrt(R2 * R2 + 4.0 * a * a * x[2] * x[2]));
+    double c;
+    *r = sqrt(r2 > 0.0 ? r2 : 0.0);
+    c = *r > 0.0 ? x[2] / *r : 0.0;
+    *th = acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c));
+}
+
+/* Samples per direction of a moving sphere's surface checked by
+ * cr_sphere_too_fast: latitudes x 2 longitudes. */
+#define CR_SPHERE_CHECK_N 24
+
+/* Whether a moving sphere's matter would move at or beyond the speed of
+ * light (cr_sphere_velocity not timelike) at some point of its surface
+ * outside the horizon r+ (the prepared sphere: as it turns, each point
+ * keeps its r and theta), tested on a grid of CR_SPHERE_CHECK_N latitudes x
+ * 2 CR_SPHERE_CHECK_N longitudes and the centre. Returns 1 with that point's
+ * r, th in *r_bad, *th_bad, else 0. */
+CR_HD static inline int cr_sphere_too_fast(const cr_metric *mt, const cr_sphere *s,
+                                           double *r_bad, double *th_bad)
+{
+    double rp = cr_metric_r_plus(mt), u[4], x[3], r, th;
+    int i, j, k;
+    for (i = 0; i <= CR_SPHERE_CHECK_N; i++) {
+        double lat = CR_PI * i / CR_SPHERE_CHECK_N;
+        for (j = 0; j < 2 * CR_SPHERE_CHECK_N; j++) {
+            double lon = CR_PI * j / CR_SPHERE_CHECK_N;
+            double d[3] = {sin(lat) * cos(lon), cos(lat), sin(lat) * sin(lon)};
+            for (k = 0; k < 3; k++)
+                x[k] = s->center[k] +
+                       (i == 0 && j == 0 ? 0.0 : s->radius) *
+                           (d[0] * s->axes[0][k] + d[1] * s->axes[1][k] + d[2] * s->axes[2][k]);
+            cr_sphere_cart_to_bl(mt->a, x, &r, &th);
+            if (r > rp && !cr_sphere_velocity(mt, s->omega, r, th, u)) {
+                *r_bad = r;
+                *th_bad = th;
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* Cartesian point x (2.2.8) at BL time t in the sphere's own coordinates,
+ * those of its prepared centre and axes: x turned by -omega t about the
+ * polar axis (x itself for omega = 0, exactly). */
+CR_HD static inline void cr_sphere_unturn(const cr_sphere *s, double t, const double x[3],
+                                          double xl[3])
+{
+    double ang = s->omega * t, c = cos(ang), sn = sin(ang);
+    xl[0] = c * x[0] + sn * x[1];
+    xl[1] = c * x[1] - sn * x[0];
+    xl[2] = x[2];
+}
+
+/* BL time t_obs - delay of the ray's state y at fraction s of its current
+ * step (NaN where the ray has no BL time: cr_ray_delay). */
+CR_HD static inline double cr_sphere_ray_time(const cr_frame *f, const cr_ray *ray, double s,
+                                              const double *y)
+{
+    /* at the step's ends T is the state's own (cr_ray_time_step) */
+    if (s <= 0.0 || s >= 1.0)
+        return f->t_obs - cr_ray_delay(ray, y);
+    return f->t_obs - cr_ray_delay_at(ray, s, y);
+}
+
+/* The point of state y (fraction s of the current step) in sphere k's own
+ * coordinates: its Cartesian position, turned back for a moving sphere by
+ * the sphere's turn at the state's time. Returns 0 where a moving sphere
+ * has no time there (no hit can be there), else 1. */
+CR_HD static inline int cr_sphere_local(const cr_frame *f, const cr_ray *ray, int k, double s,
+                                        const double *y, double xl[3])
+{
+    const cr_sphere *sp = &f->spheres[k];
+    double x[3], t;
+    cr_ray_cart(f, ray, y, x);
+    if (!sp->moving) {
+        xl[0] = x[0];
+        xl[1] = x[1];
+        xl[2] = x[2];
+        return 1;
+    }
+    t = cr_sphere_ray_time(f, ray, s, y);
+    if (!cr_isfinite(t))
+        return 0;
+    cr_sphere_unturn(sp, t, x, xl);
+    return 1;
+}
+
+/* Value of sphere k's surface function (cr_sphere_f) at state y, fraction
+ * s of the ray's current step: at the sphere's place at the state's time
+ * (cr_sphere_local); 1 (outside) where a moving sphere has none. */
+CR_HD static inline double cr_sphere_value(const cr_frame *f, const cr_ray *ray, int k, double s,
                                            const double *y)
 {
-    double x[3];
-    cr_ray_cart(f, ray, y, x);
-    return cr_sphere_f(&f->spheres[k], x);
+    double xl[3];
+    if (!cr_sphere_local(f, ray, k, s, y, xl))
+        return 1.0;
+    return cr_sphere_f(&f->spheres[k], xl);
 }
 
 /* Locate the root of sphere k's surface function inside the current step,
- * where the value is v0 at its start and v1 of opposite sign at fraction
- * s_hi, 0 < s_hi <= 1, by regula falsi (cr_falsi) on cr_ray_state_at.
+ * where the value is v0 at fraction s_lo and v1 of opposite sign at s_hi,
+ * s_lo < s_hi <= 1, by regula falsi (cr_falsi) on cr_ray_state_at.
  * Returns the fraction s and the state there in ys. */
 CR_HD static inline double cr_sphere_locate(const cr_frame *f, const cr_ray *ray, int k,
-                                            double v0, double s_hi, double v1, double *ys)
+                                            double s_lo, double v0, double s_hi, double v1,
+                                            double *ys)
 {
     cr_falsi z;
     cr_falsi_start(&z, v0, s_hi, v1);
+    z.s_lo = s_lo;
     while (cr_falsi_next(&z)) {
         cr_ray_state_at(ray, z.s, ys);
-        if (!cr_falsi_update(&z, cr_sphere_value(f, ray, k, ys)))
+        if (!cr_falsi_update(&z, cr_sphere_value(f, ray, k, z.s, ys)))
             break;
     }
     return z.s;
 }
 
-/* Smallest value of sphere event k along the current step, by golden-section
- * search of the step fraction on cr_ray_state_at (the squared distance to a
- * sphere along one step is unimodal). Returns the value, *s_min its place. */
-CR_HD static inline double cr_sphere_dip(const cr_frame *f, const cr_ray *ray, int k,
-                                         double *s_min, double *ys)
+/* Smallest value of sphere event k along fractions [lo, hi] of the current
+ * step, by golden-section search on cr_ray_state_at (the squared distance to
+ * a sphere along one step, or one piece of a step, is unimodal). Returns the
+ * value, *s_min its place. */
+CR_HD static inline double cr_sphere_dip(const cr_frame *f, const cr_ray *ray, int k, double lo,
+                                         double hi, double *s_min, double *ys)
 {
     cr_golden g;
     int it;
-    cr_golden_start(&g, 0.0, 1.0);
+    cr_golden_start(&g, lo, hi);
     cr_ray_state_at(ray, g.x1, ys);
-    g.f1 = cr_sphere_value(f, ray, k, ys);
+    g.f1 = cr_sphere_value(f, ray, k, g.x1, ys);
     cr_ray_state_at(ray, g.x2, ys);
-    g.f2 = cr_sphere_value(f, ray, k, ys);
+    g.f2 = cr_sphere_value(f, ray, k, g.x2, ys);
     for (it = 0; it < 40 && g.f1 >= 0.0 && g.f2 >= 0.0; it++) {
         int which = cr_golden_shrink(&g);
-        cr_ray_state_at(ray, which == 1 ? g.x1 : g.x2, ys);
+        double x = which == 1 ? g.x1 : g.x2;
+        cr_ray_state_at(ray, x, ys);
         if (which == 1)
-            g.f1 = cr_sphere_value(f, ray, k, ys);
+            g.f1 = cr_sphere_value(f, ray, k, x, ys);
         else
-            g.f2 = cr_sphere_value(f, ray, k, ys);
+            g.f2 = cr_sphere_value(f, ray, k, x, ys);
     }
     *s_min = g.f1 < g.f2 ? g.x1 : g.x2;
     return g.f1 < g.f2 ? g.f1 : g.f2;
 }
 
+/* The earliest hit of sphere k within fractions [sa, sb] of the current
+ * step, xa and xb the sphere's own coordinates (cr_sphere_local) of the
+ * states there, before best (a hit of another sphere found already).
+ * Catches both a sign change of |x - c|^2 - R^2 and a ray that enters and
+ * leaves within [sa, sb]: under RK4 (short, nearly straight steps) where the
+ * chord passes inside the sphere; under Mino (a step may cross much of the
+ * scene, and its fraction is not proportional to the distance along the
+ * chord) where the chord passes within R plus a quarter of its length, the
+ * closest approach is found by cr_sphere_dip. Returns the located fraction
+ * with its state in ys, or 2 (none). */
+CR_HD static inline double cr_sphere_piece(const cr_frame *f, const cr_ray *ray, int k, double sa,
+                                           double sb, const double xa[3], const double xb[3],
+                                           double best, double *ys)
+{
+    const cr_sphere *sp = &f->spheres[k];
+    double v0 = cr_sphere_f(sp, xa), v1 = cr_sphere_f(sp, xb);
+    double s_hi = sb;
+    if (v0 == 0.0)
+        return 2.0;
+    if ((v0 < 0.0) == (v1 < 0.0)) {
+        /* both ends on one side: look for a dip inside at the chord's
+         * closest approach to the centre */
+        double d[3], w[3], dd = 0.0, wd = 0.0, t, xm[3];
+        int i;
+        if (v0 < 0.0)
+            return 2.0;
+        for (i = 0; i < 3; i++) {
+            d[i] = xb[i] - xa[i];
+            w[i] = xa[i] - sp->center[i];
+            dd += d[i] * d[i];
+            wd += w[i] * d[i];
+        }
+        if (!(dd > 0.0))
+            return 2.0;
+        t = -wd / dd;
+        if (cr_ray_long_steps(ray)) {
+            double dist2 = 0.0, slack = sp->radius + 0.25 * sqrt(dd);
+            t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+            for (i = 0; i < 3; i++) {
+                xm[i] = xa[i] + t * d[i] - sp->center[i];
+                dist2 += xm[i] * xm[i];
+            }
+            if (dist2 >= slack * slack)
+                return 2.0;
+            v1 = cr_sphere_dip(f, ray, k, sa, sb, &t, ys);
+        } else {
+            if (t <= 0.0 || t >= 1.0)
+                return 2.0;
+            for (i = 0; i < 3; i++)
+                xm[i] = xa[i] + t * d[i];
+            if (cr_sphere_f(sp, xm) >= 0.0)
+                return 2.0;
+            t = sa + t * (sb - sa);
+            cr_ray_state_at(ray, t, ys);
+            v1 = cr_sphere_value(f, ray, k, t, ys);
+        }
+        if (v1 >= 0.0)
+            return 2.0;
+        s_hi = t;
+    }
+    if (s_hi >= best)
+        return 2.0;
+    return cr_sphere_locate(f, ray, k, sa, v0, s_hi, v1, ys);
+}
+
+/* Whether moving sphere k cannot be met within the current step: the step's
+ * chord from x0 to x1 (world Cartesian) stays beyond the ball |x| <= |c| + R
+ * about the origin that holds the sphere at every time, or beyond the slab
+ * |z - c_z| <= R, by a quarter of its length under Mino (cr_sphere_piece's
+ * slack). */
+CR_HD static inline int cr_sphere_far(const cr_frame *f, const cr_ray *ray, int k,
+                                      const double x0[3], const double x1[3])
+{
+    const cr_sphere *sp = &f->spheres[k];
+    const double *c = sp->center;
+    double d[3], dd = 0.0, xd = 0.0, t, dist2 = 0.0, slack;
+    double rho = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + sp->radius;
+    int i;
+    for (i = 0; i < 3; i++) {
+        d[i] = x1[i] - x0[i];
+        dd += d[i] * d[i];
+        xd += x0[i] * d[i];
+    }
+    slack = cr_ray_long_steps(ray) ? 0.25 * sqrt(dd) : 0.0;
+    if (fmin(x0[2], x1[2]) > c[2] + sp->radius + slack ||
+        fmax(x0[2], x1[2]) < c[2] - sp->radius - slack)
+        return 1;
+    t = dd > 0.0 ? -xd / dd : 0.0;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    for (i = 0; i < 3; i++) {
+        double xm = x0[i] + t * d[i];
+        dist2 += xm * xm;
+    }
+    return dist2 >= (rho + slack) * (rho + slack);
+}
+
 /* Earliest sphere hit within the current step (x0, x1 the Cartesian
- * positions at its ends). Catches both a sign change of |x - c|^2 - R^2 and
- * a ray that enters and leaves within the step: under RK4 (short, nearly
- * straight steps) where the chord passes inside the sphere; under Mino (a
- * step may cross much of the scene, and its fraction is not proportional to
- * the distance along the chord) where the chord passes within R plus a
- * quarter of its length, the step's closest approach is found by
- * cr_sphere_dip.
- * Returns the sphere index or -1; on a hit, *s_out and ys hold the located
- * point. */
+ * positions at its ends): for each sphere, the earliest of its pieces
+ * (cr_sphere_piece): the whole step for a static sphere or one at rest,
+ * pieces of at most CR_SPHERE_MAX_TURN of its turn for a turning one (which
+ * cr_sphere_far may rule out first). Returns the sphere index or -1; on a
+ * hit, *s_out and ys hold the located point. */
 CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_ray *ray,
                                          const double x0[3], const double x1[3], double *s_out,
                                          double *ys)
 {
-    int best = -1, k;
+    int best = -1, k, i;
     double best_s = 2.0, tmp[CR_RAY_NY];
     for (k = 0; k < f->n_spheres; k++) {
         const cr_sphere *sp = &f->spheres[k];
-        double v0 = cr_sphere_f(sp, x0), v1 = cr_sphere_f(sp, x1);
-        double s_hi = 1.0, s;
-        if (v0 == 0.0)
-            continue;
-        if ((v0 < 0.0) == (v1 < 0.0)) {
-            /* both ends on one side: look for a dip inside at the chord's
-             * closest approach to the centre */
-            double d[3], w[3], dd = 0.0, wd = 0.0, t, xm[3];
-            int i;
-            if (v0 < 0.0)
+        double xa[3], xb[3], sa = 0.0, s = 2.0, ta = 0.0, tb = 0.0;
+        int n = 1, j;
+        if (!sp->moving) {
+            for (i = 0; i < 3; i++)
+                xa[i] = x0[i];
+        } else {
+            if (sp->omega != 0.0 && cr_sphere_far(f, ray, k, x0, x1))
                 continue;
-            for (i = 0; i < 3; i++) {
-                d[i] = x1[i] - x0[i];
-                w[i] = x0[i] - sp->center[i];
-                dd += d[i] * d[i];
-                wd += w[i] * d[i];
+            ta = cr_sphere_ray_time(f, ray, 0.0, cr_ray_y0(ray));
+            tb = cr_sphere_ray_time(f, ray, 1.0, cr_ray_y1(ray));
+            if (!cr_isfinite(ta) || !cr_isfinite(tb))
+                continue; /* no BL time: nothing drawn there (ray.h) */
+            cr_sphere_unturn(sp, ta, x0, xa);
+            if (sp->omega != 0.0) {
+                double pieces = ceil(fabs(sp->omega * (tb - ta)) / CR_SPHERE_MAX_TURN);
+                n = pieces > CR_SPHERE_MAX_PIECES ? CR_SPHERE_MAX_PIECES
+                                                  : (pieces < 1.0 ? 1 : (int)pieces);
             }
-            if (!(dd > 0.0))
-                continue;
-            t = -wd / dd;
-            if (cr_ray_long_steps(ray)) {
-                double dist2 = 0.0, slack = sp->radius + 0.25 * sqrt(dd);
-                t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-                for (i = 0; i < 3; i++) {
-                    xm[i] = x0[i] + t * d[i] - sp->center[i];
-                    dist2 += xm[i] * xm[i];
-                }
-                if (dist2 >= slack * slack)
-                    continue;
-                v1 = cr_sphere_dip(f, ray, k, &t, tmp);
-            } else {
-                if (t <= 0.0 || t >= 1.0)
-                    continue;
-                for (i = 0; i < 3; i++)
-                    xm[i] = x0[i] + t * d[i];
-                if (cr_sphere_f(sp, xm) >= 0.0)
-                    continue;
-                cr_ray_state_at(ray, t, tmp);
-                v1 = cr_sphere_value(f, ray, k, tmp);
-            }
-            if (v1 >= 0.0)
-                continue;
-            s_hi = t;
         }
-        if (s_hi >= best_s)
-            continue;
-        s = cr_sphere_locate(f, ray, k, v0, s_hi, v1, tmp);
+        for (j = 1; j <= n && sa < best_s; j++) {
+            double sb = (double)j / n;
+            if (j < n) {
+                cr_ray_state_at(ray, sb, tmp);
+                if (!cr_sphere_local(f, ray, k, sb, tmp, xb))
+                    break;
+            } else if (sp->moving) {
+                cr_sphere_unturn(sp, tb, x1, xb);
+            } else {
+                for (i = 0; i < 3; i++)
+                    xb[i] = x1[i];
+            }
+            s = cr_sphere_piece(f, ray, k, sa, sb, xa, xb, best_s, tmp);
+            if (s <= 1.0)
+                break;
+            sa = sb;
+            for (i = 0; i < 3; i++)
+                xa[i] = xb[i];
+        }
         if (s < best_s) {
-            int i;
             best_s = s;
             best = k;
             for (i = 0; i < CR_RAY_NY; i++)
@@ -217,22 +441,45 @@ CR_HD static inline int cr_sphere_event(const cr_frame *f, const cr_ray *ray, do
     return hit;
 }
 
-/* Shade a sphere hit h: outcome, sphere index, hit radius and azimuth, delay, the
- * chessboard colour there and the redshift of a static source (6.9). */
+/* Shade a sphere hit h: outcome, sphere index, hit radius and azimuth, delay,
+ * the chessboard colour there (in the sphere's own coordinates at the hit's
+ * time: the pattern moves with a moving sphere) and the frequency ratio: of
+ * a static source (6.9) for a static sphere; for a moving one the one
+ * frequency ratio with its matter's 4-velocity at the hit point
+ * (cr_sphere_velocity), and bolo = g^4, the bolometric intensity of a
+ * surface of unit intensity in its rest frame (I / nu^4 is invariant for
+ * the frequency-integrated intensity). */
 CR_HD static inline void cr_sphere_shade(const cr_frame *f, const cr_ray *ray, const cr_hit *h,
                                          cr_pixel *px)
 {
-    double xs[3], rr, th, ph, p[4];
-    cr_ray_cart(f, ray, h->y, xs);
+    const cr_sphere *sp = &f->spheres[h->index];
+    double xs[3], rr, th, ph, p[4], u[4];
     cr_ray_position(ray, h->y, &rr, &th, &ph);
     px->outcome = CR_OUT_SPHERE;
     px->object = (int16_t)h->index;
     px->hit_r = rr;
     px->hit_phi = cr_wrap_2pi(ph);
     px->delay = cr_ray_delay_at(ray, h->s, h->y);
-    px->color = cr_sphere_color(&f->spheres[h->index], xs);
+    cr_ray_cart(f, ray, h->y, xs);
+    if (sp->moving) {
+        double xl[3];
+        cr_sphere_unturn(sp, f->t_obs - px->delay, xs, xl);
+        px->color = cr_sphere_color(sp, xl);
+    } else {
+        px->color = cr_sphere_color(sp, xs);
+    }
     cr_ray_momentum(ray, h->y, p);
-    px->redshift = cr_redshift_static(f, ray->p_obs, p, rr, th);
+    if (!sp->moving) {
+        px->redshift = cr_redshift_static(f, ray->p_obs, p, rr, th);
+        return;
+    }
+    px->redshift = cr_sphere_velocity(&f->metric, sp->omega, rr, th, u)
+                       ? cr_frame_shift(f, ray->p_obs, p, u)
+                       : -1.0;
+    if (px->redshift > 0.0) {
+        double g2 = px->redshift * px->redshift;
+        px->bolo = g2 * g2;
+    }
 }
 
 #endif

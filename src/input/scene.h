@@ -36,7 +36,20 @@ typedef struct cr_scene_sphere {
     cr_anim roll, pitch, yaw;    /* rad, default 0 */
     cr_anim radius;              /* Cartesian radius */
     int line;                    /* line of its `sphere:` key, for messages */
+    int motion;                  /* cr_scene_sphere_motion (sphere.motion) */
+    int retrograde;              /* motion orbit: against the hole's spin */
+    int r_isco;                  /* motion orbit, r: isco (r is that orbit's ISCO) */
+    double omega;                /* motion rotating: dphi/dt, 1 / the scene's length
+                                    unit (default 0: at rest) */
 } cr_scene_sphere;
+
+/* How a sphere moves (sphere.motion; core/sphere.h). A moving one is seen
+ * with the light's travel time at the frame's observer.t. */
+typedef enum cr_scene_sphere_motion {
+    CR_SPHERE_MOTION_STATIC = 0,   /* the paper's sphere: no time (default) */
+    CR_SPHERE_MOTION_ORBIT = 1,    /* on the circular equatorial geodesic at its r */
+    CR_SPHERE_MOTION_ROTATING = 2  /* turning rigidly about the axis at omega */
+} cr_scene_sphere_motion;
 
 /* The spectrum section (-t s, src/output/spectrum.h): a line profile and
  * the blackbody continuum of a Keplerian disc. Energies in keV. */
@@ -81,6 +94,10 @@ typedef struct cr_scene {
                             the ZAMO, each animatable */
     int obs_retrograde;  /* CR_MOTION_ORBIT: against the hole's spin */
     int obs_projection;  /* cr_projection, default CR_PROJ_RECTILINEAR */
+    cr_anim obs_t;       /* observer.t: the observer's time of frame k is
+                            obs_t(k) + k obs_dt (default 0; only with a moving
+                            sphere), in the scene's length unit */
+    double obs_dt;       /* observer.dt, default 0 */
 
     int has_disc;
     cr_rgb disc_color1, disc_color2; /* color2 defaults to (E.4.2) with ERRATA 3 */

@@ -646,15 +646,41 @@ int cr_scene_auto_exposure(cr_scene *s, int n, int width, int height,
     return 0;
 }
 
-static int frame_sphere(const cr_scene *s, int k, int n, int i, double a, cr_sphere *sp,
-                        cr_err *err)
+/* A moving sphere's motion on metric mt (the scene's units), its r set
+ * first for r: isco: omega (the circular orbit's for motion: orbit) into
+ * sp; -1 with a message when the orbit does not exist there. */
+static int frame_sphere_motion(const cr_scene *s, int k, int n, int i, const cr_metric *mt,
+                               cr_sphere *sp, cr_err *err)
 {
     const cr_scene_sphere *ss = &s->spheres[i];
+    sp->moving = ss->motion != CR_SPHERE_MOTION_STATIC;
+    sp->omega = ss->motion == CR_SPHERE_MOTION_ROTATING ? ss->omega : 0.0;
+    if (ss->motion == CR_SPHERE_MOTION_ORBIT) {
+        int sense = cr_orbit_sense(mt, !ss->retrograde);
+        cr_orbit o;
+        if (ss->r_isco)
+            sp->r = cr_orbit_r_isco(mt, sense);
+        if (!cr_orbit_eval(mt, sense, sp->r, &o))
+            return frame_fail(err, s, k, n,
+                              "sphere %d (line %d): motion: orbit at r = %g: no circular orbit "
+                              "there (%s orbits exist outside the photon orbit r = %g)",
+                              i, ss->line, sp->r, ss->retrograde ? "retrograde" : "prograde",
+                              cr_orbit_r_photon(mt, sense));
+        sp->omega = o.omega;
+    }
+    return 0;
+}
+
+static int frame_sphere(const cr_scene *s, int k, int n, int i, const cr_metric *mt,
+                        cr_sphere *sp, cr_err *err)
+{
+    const cr_scene_sphere *ss = &s->spheres[i];
+    double a = mt->a;
     memset(sp, 0, sizeof *sp);
     sp->color = ss->color;
     sp->n_lat = ss->n_lat;
     sp->n_lon = ss->n_lon;
-    if (eval(ss->r, k, n, &sp->r) || eval(ss->theta, k, n, &sp->theta) ||
+    if ((!ss->r_isco && eval(ss->r, k, n, &sp->r)) || eval(ss->theta, k, n, &sp->theta) ||
         eval(ss->phi, k, n, &sp->phi) || eval(ss->roll, k, n, &sp->roll) ||
         eval(ss->pitch, k, n, &sp->pitch) || eval(ss->yaw, k, n, &sp->yaw) ||
         eval(ss->radius, k, n, &sp->radius))
@@ -670,7 +696,21 @@ static int frame_sphere(const cr_scene *s, int k, int n, int i, double a, cr_sph
     if (!(sp->radius > 0.0))
         return frame_fail(err, s, k, n, "sphere %d (line %d): radius = %g must be positive", i,
                           ss->line, sp->radius);
+    if (frame_sphere_motion(s, k, n, i, mt, sp, err))
+        return -1;
     cr_sphere_prepare(sp, a);
+    if (sp->moving) {
+        double rb, thb;
+        if (cr_sphere_too_fast(mt, sp, &rb, &thb))
+            return frame_fail(err, s, k, n,
+                              "sphere %d (line %d): motion: %s with omega = %g: its matter at r = "
+                              "%g, theta = %g deg would move at or beyond the speed of light "
+                              "(%s)",
+                              i, ss->line, ss->motion == CR_SPHERE_MOTION_ORBIT ? "orbit" : "rotating",
+                              sp->omega, rb, thb * 180.0 / CR_PI,
+                              sp->omega == 0.0 ? "no matter is at rest inside the ergosphere"
+                                               : "make the sphere smaller or omega lower");
+    }
     return 0;
 }
 
@@ -718,7 +758,7 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
                           "(observer.r = %g is inside r+ = %g); use mino (the default)",
                           f->observer.r, cr_metric_r_plus(&f->metric));
     for (i = 0; i < s->n_spheres; i++)
-        if (frame_sphere(s, k, n, i, f->metric.a, &sphere_buf[i], err))
+        if (frame_sphere(s, k, n, i, &f->metric, &sphere_buf[i], err))
             return -1;
     f->spheres = s->n_spheres > 0 ? sphere_buf : NULL;
     f->n_spheres = s->n_spheres;
@@ -742,6 +782,9 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     f->singularity_color = s->singularity_color;
     f->width = width;
     f->height = height;
+    if (eval(s->obs_t, k, n, &f->t_obs) || !isfinite(f->t_obs + k * s->obs_dt))
+        return frame_fail(err, s, k, n, "observer.t: the time of this frame is not finite");
+    f->t_obs += k * s->obs_dt;
     /* inside the core every length is in units of M (messages above use the
      * scene's own units) */
     for (i = 0; i < s->n_spheres; i++)

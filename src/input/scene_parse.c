@@ -268,11 +268,12 @@ static int parse_motion(cr_yaml *y, yaml_node_t *node, cr_scene *s, cr_err *err)
 static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_scene *s,
                           cr_err *err)
 {
-    enum { R, THETA, PHI, ROLL, PITCH, YAW, HFOV, VFOV, HEXT, VEXT, MOTION, PROJ, RETRO, N };
+    enum { R, THETA, PHI, ROLL, PITCH, YAW, HFOV, VFOV, HEXT, VEXT, MOTION, PROJ, RETRO, TIME,
+           DTIME, N };
     cr_yaml_field f[N] = {REQ("r"),       REQ("theta"),   REQ("phi"),        OPT("roll"),
                           OPT("pitch"),   OPT("yaw"),     OPT("hfov"),       OPT("vfov"),
                           OPT("hextent"), OPT("vextent"), OPT("motion"),     OPT("projection"),
-                          OPT("retrograde")};
+                          OPT("retrograde"), OPT("t"),    OPT("dt")};
     const char *p = "observer";
     yaml_mark_t where;
     int inf, i;
@@ -364,8 +365,16 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
         field_anim(y, &f[HFOV], p, V_ANGLE, 0.0, &s->hfov, err) ||
         field_anim(y, &f[VFOV], p, V_ANGLE, 0.0, &s->vfov, err) ||
         field_anim(y, &f[HEXT], p, V_NUMBER, 0.0, &s->hextent, err) ||
-        field_anim(y, &f[VEXT], p, V_NUMBER, 0.0, &s->vextent, err))
+        field_anim(y, &f[VEXT], p, V_NUMBER, 0.0, &s->vextent, err) ||
+        field_anim(y, &f[TIME], p, V_NUMBER, 0.0, &s->obs_t, err) ||
+        (f[DTIME].value && cr_yaml_number(y, f[DTIME].value, "observer.dt", &s->obs_dt, err)))
         return -1;
+    if (!isfinite(s->obs_t.a) || !isfinite(s->obs_t.b))
+        return cr_yaml_fail(y, f[TIME].value, "observer.t", err,
+                            "the observer's time must be a finite number");
+    if (!isfinite(s->obs_dt))
+        return cr_yaml_fail(y, f[DTIME].value, "observer.dt", err,
+                            "the time between frames must be a finite number");
     if (inf) {
         s->obs_at_infinity = 1;
         s->obs_r.a = s->obs_r.b = INFINITY;
@@ -837,28 +846,152 @@ static int parse_skymap(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const ch
     return 0;
 }
 
+/* sphere.motion and its keys (motion, retrograde, omega; r: isco) of a
+ * sphere whose other fields are read: a moving sphere's place follows its
+ * motion, so its r, theta and phi are plain values; an orbit lies in the
+ * equator. */
+static int parse_sphere_motion(cr_yaml *y, const cr_yaml_field *fm, const cr_yaml_field *fr,
+                               const cr_yaml_field *fo, const cr_yaml_field *fpos,
+                               const char *p, cr_scene_sphere *sp, cr_err *err)
+{
+    static const char *const words[3] = {"static", "orbit", "rotating"};
+    char sub[CR_YAML_PATH], got[96];
+    int i;
+    sp->motion = CR_SPHERE_MOTION_STATIC;
+    if (fm->value) {
+        cr_yaml_path_key(sub, sizeof sub, p, "motion");
+        for (i = 0; i < 3 && !cr_yaml_scalar_is(fm->value, words[i]); i++)
+            ;
+        if (i == 3) {
+            cr_yaml_describe(fm->value, got, sizeof got);
+            return cr_yaml_fail(y, fm->value, sub, err,
+                                "unknown motion %s (expected static, orbit: the circular "
+                                "equatorial orbit at its r, or rotating: turning about the "
+                                "axis at omega)",
+                                got);
+        }
+        sp->motion = i;
+    }
+    if (fr->value) {
+        cr_yaml_path_key(sub, sizeof sub, p, "retrograde");
+        if (sp->motion != CR_SPHERE_MOTION_ORBIT)
+            return cr_yaml_fail(y, fr->key_node, sub, err,
+                                "applies only to motion: orbit (the sense of the circular orbit)");
+        if (cr_yaml_bool(y, fr->value, sub, &sp->retrograde, err))
+            return -1;
+    }
+    if (fo->value) {
+        cr_yaml_path_key(sub, sizeof sub, p, "omega");
+        if (sp->motion != CR_SPHERE_MOTION_ROTATING)
+            return cr_yaml_fail(y, fo->key_node, sub, err,
+                                "applies only to motion: rotating (its angular velocity "
+                                "dphi/dt)");
+        if (cr_yaml_number(y, fo->value, sub, &sp->omega, err))
+            return -1;
+        if (!isfinite(sp->omega))
+            return cr_yaml_fail(y, fo->value, sub, err,
+                                "the angular velocity must be a finite number");
+    }
+    if (sp->motion == CR_SPHERE_MOTION_STATIC)
+        return 0;
+    for (i = 0; i < 3; i++) {
+        const cr_anim *v = i == 0 ? &sp->r : (i == 1 ? &sp->theta : &sp->phi);
+        if (v->a != v->b) {
+            cr_yaml_path_key(sub, sizeof sub, p, fpos[i].key);
+            return cr_yaml_fail(y, fpos[i].value, sub, err,
+                                "a moving sphere's place follows its motion (phi is its phase "
+                                "at t = 0): give a plain value, not an animation");
+        }
+    }
+    if (sp->motion == CR_SPHERE_MOTION_ORBIT && fabs(sp->theta.a - 0.5 * CR_PI) > 1e-12) {
+        cr_yaml_path_key(sub, sizeof sub, p, "theta");
+        return cr_yaml_fail(y, fpos[1].value, sub, err,
+                            "a circular orbit lies in the equator: theta must be 90 deg, got "
+                            "%g deg",
+                            sp->theta.a * 180.0 / CR_PI);
+    }
+    if (sp->motion == CR_SPHERE_MOTION_ORBIT)
+        sp->theta.a = sp->theta.b = 0.5 * CR_PI;
+    return 0;
+}
+
 static int parse_sphere(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *p,
                         cr_scene_sphere *sp, cr_err *err)
 {
-    enum { COLOR, RESOLUTION, R, THETA, PHI, ROLL, PITCH, YAW, RADIUS, N };
+    enum { COLOR, RESOLUTION, R, THETA, PHI, ROLL, PITCH, YAW, RADIUS, MOTION, RETRO, OMEGA, N };
     cr_yaml_field f[N] = {REQ("color"), REQ("resolution"), REQ("r"),     REQ("theta"),
                           REQ("phi"),   OPT("roll"),       OPT("pitch"), OPT("yaw"),
-                          REQ("radius")};
+                          REQ("radius"), OPT("motion"),    OPT("retrograde"), OPT("omega")};
+    int r_isco;
     memset(sp, 0, sizeof *sp);
     sp->line = (int)(key ? key->start_mark.line : map->start_mark.line) + 1;
     if (cr_yaml_fields(y, map, p, key, f, N, err))
         return -1;
+    r_isco = cr_yaml_scalar_is(f[R].value, "isco");
+    if (r_isco && !(f[MOTION].value && cr_yaml_scalar_is(f[MOTION].value, "orbit"))) {
+        char sub[CR_YAML_PATH];
+        cr_yaml_path_key(sub, sizeof sub, p, "r");
+        return cr_yaml_fail(y, f[R].value, sub, err, "r: isco goes with motion: orbit only");
+    }
+    sp->r_isco = r_isco;
     if (field_rgb(y, &f[COLOR], p, sp->color, &sp->color, err) ||
         field_resolution(y, &f[RESOLUTION], p, "a resolution [latitude lines, longitude lines]",
                          &sp->n_lat, &sp->n_lon, err) ||
-        field_anim(y, &f[R], p, V_NUMBER, 0.0, &sp->r, err) ||
+        (!r_isco && field_anim(y, &f[R], p, V_NUMBER, 0.0, &sp->r, err)) ||
         field_anim(y, &f[THETA], p, V_ANGLE, 0.0, &sp->theta, err) ||
         field_anim(y, &f[PHI], p, V_ANGLE, 0.0, &sp->phi, err) ||
         field_anim(y, &f[ROLL], p, V_ANGLE, 0.0, &sp->roll, err) ||
         field_anim(y, &f[PITCH], p, V_ANGLE, 0.0, &sp->pitch, err) ||
         field_anim(y, &f[YAW], p, V_ANGLE, 0.0, &sp->yaw, err) ||
-        field_anim(y, &f[RADIUS], p, V_NUMBER, 0.0, &sp->radius, err))
+        field_anim(y, &f[RADIUS], p, V_NUMBER, 0.0, &sp->radius, err) ||
+        parse_sphere_motion(y, &f[MOTION], &f[RETRO], &f[OMEGA], &f[R], p, sp, err))
         return -1;
+    return 0;
+}
+
+/* The key node of key in mapping map, or NULL. */
+static yaml_node_t *map_key(cr_yaml *y, yaml_node_t *map, const char *key)
+{
+    yaml_node_pair_t *pr;
+    if (!map || map->type != YAML_MAPPING_NODE)
+        return NULL;
+    for (pr = map->data.mapping.pairs.start; pr < map->data.mapping.pairs.top; pr++) {
+        yaml_node_t *k = cr_yaml_node(y, pr->key);
+        if (k && cr_yaml_scalar_is(k, key))
+            return k;
+    }
+    return NULL;
+}
+
+/* The checks between a scene's sections for moving spheres: observer.t and
+ * observer.dt need one (time enters nothing else), and a moving sphere needs
+ * a metric that is not animated (its motion is a worldline of one hole). */
+static int check_moving(cr_yaml *y, yaml_node_t *metric, yaml_node_t *observer,
+                        const cr_scene *s, cr_err *err)
+{
+    int i, moving = -1;
+    for (i = 0; i < s->n_spheres && moving < 0; i++)
+        if (s->spheres[i].motion != CR_SPHERE_MOTION_STATIC)
+            moving = i;
+    if (moving < 0) {
+        const char *keys[2] = {"t", "dt"};
+        for (i = 0; i < 2; i++) {
+            yaml_node_t *k = map_key(y, observer, keys[i]);
+            char sub[CR_YAML_PATH];
+            if (!k)
+                continue;
+            cr_yaml_path_key(sub, sizeof sub, "observer", keys[i]);
+            return cr_yaml_fail(y, k, sub, err,
+                                "the observer's time needs a moving object: give a sphere a "
+                                "motion (sphere.motion: orbit or rotating)");
+        }
+        return 0;
+    }
+    if (s->m.a != s->m.b || s->a.a != s->a.b || s->q.a != s->q.b)
+        return cr_yaml_fail(y, metric, "metric", err,
+                            "sphere %d (line %d) moves: its motion needs one hole, so the "
+                            "metric must not be animated",
+                            moving, s->spheres[moving].line);
     return 0;
 }
 
@@ -964,7 +1097,8 @@ static int parse_scene(const char *text, size_t len, const char *name, const cha
     if (f[SPECTRUM].key_node &&
         parse_spectrum(&y, f[SPECTRUM].key_node, f[SPECTRUM].value, s, err))
         goto fail;
-    if (parse_spheres(&y, root, s, err))
+    if (parse_spheres(&y, root, s, err) ||
+        check_moving(&y, f[METRIC].key_node, f[OBSERVER].value, s, err))
         goto fail;
     if (field_rgb(&y, &f[SKY], NULL, RGB(0, 0, 0), &s->sky_color, err) ||
         /* the horizon: the paper's red, but black next to a Keplerian disc

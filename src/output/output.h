@@ -39,7 +39,8 @@ cr_rgb cr_order_color(const cr_pixel *p);
 /* The CSV's floating-point values of one pixel, -1 where the CSV writes
  * "undefined": redshift where no source was reached (outcome none, error,
  * limit or outside, or a NaN ratio); hit_r, hit_phi unless the ray hit the disc or a
- * sphere; bolometric unless it hit a Keplerian disc (cr_pixel.bolo >= 0);
+ * sphere; bolometric unless it hit a Keplerian disc or a moving sphere
+ * (cr_pixel.bolo >= 0);
  * delay (cr_pixel.delay) on a disc or sphere hit, NaN otherwise (a delay may
  * be -1: the CSV writes nan).
  * The one definition of these columns for the CSV, the FITS file (fits.h)
@@ -63,8 +64,8 @@ static inline cr_pixel_values cr_pixel_csv_values(const cr_pixel *q)
     v.redshift = undefined ? -1.0 : q->redshift;
     v.hit_r = hit ? q->hit_r : -1.0;
     v.hit_phi = hit ? q->hit_phi : -1.0;
-    /* g^4 F / F_max on a Keplerian disc hit */
-    v.bolometric = q->outcome == CR_OUT_DISC && q->bolo >= 0.0 ? q->bolo : -1.0;
+    /* g^4 F / F_max on a Keplerian disc hit, g^4 on a moving sphere's */
+    v.bolometric = hit && q->bolo >= 0.0 ? q->bolo : -1.0;
     v.order = q->order;
     v.theta_turns = q->theta_turns;
     v.delay = hit ? q->delay : NAN;

@@ -1,0 +1,356 @@
+/* Moving spheres (sphere.motion; core/sphere.h), seen with the light's
+ * travel time, against values computed here independently:
+ *
+ * 1. At rest: a sphere with motion: rotating, omega: 0 (traced with every
+ *    ray's coordinate time, its 4-velocity the static observer's) renders
+ *    the same pixels as the static sphere of the same keys: colour,
+ *    outcome, object, steps, hit point and delay identical, the frequency
+ *    ratio within 1e-12 (one formula against the other), under mino and
+ *    rk4, and from the observer at infinity.
+ * 2. Moving: Schwarzschild, a sphere (R = 2 M) on the circular orbit at
+ *    r = 8 M (Omega = r^-3/2), seen by a static observer at r_o = 40 M in
+ *    the orbit's plane. For every pixel of the image's middle row (its ray
+ *    stays in the equator) the ray is computed here by quadrature of
+ *      dphi/dr = b / (r^2 sqrt(1 - b^2 f / r^2)),
+ *      dt/dr  = 1 / (f sqrt(1 - b^2 f / r^2)),   f = 1 - 2M/r,
+ *    inward from r_o (b from the pixel's direction, cr_camera_pixel_dir),
+ *    and the sphere is looked for at the time t_obs - delay(r) of each
+ *    point: the first root of |x(r) - c(t_obs - delay(r))|^2 - R^2. Pixels
+ *    whose rays meet it on their way in must be sphere pixels with hit_r
+ *    within 1e-6 M, the delay within 1e-6 relative and the frequency ratio
+ *    g = 1 / (sqrt(f_o) u^t (1 - Omega L/E)) (u^t of the rigid rotation at
+ *    the hit) within 1e-6; pixels whose rays pass the sphere's whole orbit
+ *    by more than 0.05 M on their way in and turn outside it must not be
+ *    sphere pixels. At least two sphere pixels are checked, and the test
+ *    checks that the sphere where it is at t_obs (no travel time) would be
+ *    met elsewhere, by far more than the tolerance: the check can fail.
+ * 3. Bad input, refused naming the key: a motion faster than light, an
+ *    orbit inside the photon orbit or the horizon, the orbit's keys on a
+ *    sphere without that motion, the observer's time with nothing moving,
+ *    non-finite values, an animated place of a moving sphere.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "input/scene.h"
+#include "testutil.h"
+
+static int load(const char *text, cr_scene *s, cr_err *e)
+{
+    return cr_scene_load_string(text, strlen(text), "hot.yml", s, e);
+}
+
+/* Trace every pixel of frame 0 of the scene text at w x h. */
+static cr_pixel *render(const char *text, int w, int h, int integrator, double tol,
+                        cr_frame *fout)
+{
+    cr_scene s;
+    cr_err e;
+    cr_frame_eval ev;
+    cr_trace_settings ts = cr_trace_defaults();
+    cr_pixel *px = malloc(sizeof *px * (size_t)(w * h));
+    int i;
+    memset(&ev, 0, sizeof ev);
+    ts.integrator = integrator;
+    if (tol > 0.0)
+        ts.tolerance = tol;
+    if (load(text, &s, &e) != 0)
+        fail_msg("%s", e.msg);
+    if (cr_frame_eval_at(&ev, &s, 0, 1, w, h, &ts, &e) != 0)
+        fail_msg("%s", e.msg);
+    for (i = 0; i < w * h; i++)
+        px[i] = cr_trace_pixel(&ev.frame, i % w, i / w);
+    if (fout) {
+        *fout = ev.frame;
+        fout->spheres = NULL;
+    }
+    cr_frame_eval_free(&ev);
+    cr_scene_free(&s);
+    return px;
+}
+
+/* ---- 1. at rest ------------------------------------------------------ */
+
+static void same_pixels(const char *observer, int integrator)
+{
+    char a[1024], b[1024];
+    const char *sphere = "sphere:\n  color: [0, 0, 255]\n  resolution: [4, 8]\n  r: 6\n"
+                         "  theta: 80\n  phi: 20\n  radius: 1.5\n";
+    cr_pixel *p, *q;
+    int i, n = 48 * 36, hits = 0;
+    snprintf(a, sizeof a, "metric: {m: 1, a: 0.9, q: 0}\n%s%s", observer, sphere);
+    snprintf(b, sizeof b, "metric: {m: 1, a: 0.9, q: 0}\n%s%s  motion: rotating\n  omega: 0\n",
+             observer, sphere);
+    p = render(a, 48, 36, integrator, 0.0, NULL);
+    q = render(b, 48, 36, integrator, 0.0, NULL);
+    for (i = 0; i < n; i++) {
+        assert_int_equal(p[i].outcome, q[i].outcome);
+        assert_int_equal(p[i].object, q[i].object);
+        assert_int_equal(p[i].steps, q[i].steps);
+        assert_memory_equal(&p[i].color, &q[i].color, sizeof p[i].color);
+        assert_memory_equal(&p[i].hit_r, &q[i].hit_r, sizeof(double));
+        assert_memory_equal(&p[i].hit_phi, &q[i].hit_phi, sizeof(double));
+        if (p[i].outcome == CR_OUT_SPHERE) {
+            hits++;
+            assert_memory_equal(&p[i].delay, &q[i].delay, sizeof(double));
+            assert_true(fabs(p[i].redshift - q[i].redshift) <= 1e-12 * p[i].redshift);
+            assert_true(p[i].bolo == -1.0);
+            assert_true(fabs(q[i].bolo - pow(q[i].redshift, 4.0)) <= 1e-15);
+        } else {
+            assert_memory_equal(&p[i].redshift, &q[i].redshift, sizeof(double));
+        }
+    }
+    print_message("at rest: %d sphere pixels\n", hits);
+    assert_true(hits > 20);
+    free(p);
+    free(q);
+}
+
+static void test_at_rest(void **state)
+{
+    (void)state;
+    same_pixels("observer: {r: 30, theta: 70, phi: 0, hfov: 40}\n", CR_INTEG_MINO);
+    same_pixels("observer: {r: 30, theta: 70, phi: 0, hfov: 40}\n", CR_INTEG_RK4);
+    same_pixels("observer: {r: inf, theta: 70, phi: 0, hextent: 24}\n", CR_INTEG_MINO);
+}
+
+/* ---- 2. moving: the independent ray --------------------------------- */
+
+#define RO 40.0    /* observer */
+#define RS 8.0     /* orbit */
+#define RAD 2.0    /* sphere radius */
+#define PHI0 0.5   /* phase at t = 0, rad */
+#define TOBS 30.0  /* observer's time */
+
+/* The equatorial ray of impact parameter b (>= 0), phi growing with
+ * sgn = +1 or -1 along the backward ray: phi(r) - phi_o and the delay
+ * t_obs - t(r) by composite 8-point Gauss-Legendre over [r, r_o] in the
+ * variable r (smooth: only points before the turning point are asked
+ * for, at least 1e-3 M from it). */
+static void ray_at(double b, double r, double *dphi, double *delay)
+{
+    const int panels = 400;
+    double h = (RO - r) / panels, sp = 0.0, st = 0.0;
+    int i, j;
+    for (i = 0; i < panels; i++)
+        for (j = 0; j < 8; j++) {
+            double x, w, rr, f, root;
+            cr_quad_gl8(j, &x, &w);
+            rr = r + h * (i + 0.5 * (x + 1.0));
+            f = 1.0 - 2.0 / rr;
+            root = sqrt(1.0 - b * b * f / (rr * rr));
+            sp += 0.5 * h * w * b / (rr * rr * root);
+            st += 0.5 * h * w / (f * root);
+        }
+    *dphi = sp;
+    *delay = st;
+}
+
+/* Turning point of impact parameter b (largest root of r^3 - b^2 (r - 2)),
+ * 0 when there is none (the ray falls in). */
+static double r_turn(double b)
+{
+    double lo = 3.0, hi = RO, mid;
+    int i;
+    if (b <= sqrt(27.0))
+        return 0.0;
+    for (i = 0; i < 200; i++) {
+        mid = 0.5 * (lo + hi);
+        if (mid * mid * mid - b * b * (mid - 2.0) > 0.0)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return hi;
+}
+
+/* |x(r) - c(t)|^2 - R^2 for the ray at r, with the sphere where it was at
+ * the ray's time there (travel = 1) or where it is at t_obs (0). */
+static double ray_value(double b, int sgn, double r, int travel, double *delay)
+{
+    double dphi, d, om = pow(RS, -1.5), ph, phs, dx, dy;
+    ray_at(b, r, &dphi, &d);
+    ph = sgn * dphi;
+    phs = PHI0 + om * (TOBS - (travel ? d : 0.0));
+    dx = r * cos(ph) - RS * cos(phs);
+    dy = r * sin(ph) - RS * sin(phs);
+    *delay = d;
+    return dx * dx + dy * dy - RAD * RAD;
+}
+
+/* The first root in r of ray_value inward from r_o down to r_end: 0 with
+ * none; *dmin the smallest value on the scan. */
+static double ray_hit(double b, int sgn, double r_end, int travel, double *delay, double *vmin)
+{
+    double r = RO - 1.0, v0, v, dl, step = 0.02;
+    v0 = ray_value(b, sgn, r, travel, &dl);
+    *vmin = v0;
+    for (; r - step > r_end; r -= step) {
+        v = ray_value(b, sgn, r - step, travel, &dl);
+        if (v < *vmin)
+            *vmin = v;
+        if (v < 0.0 && v0 >= 0.0) {
+            double lo = r - step, hi = r;
+            int i;
+            for (i = 0; i < 80; i++) {
+                double mid = 0.5 * (lo + hi);
+                if (ray_value(b, sgn, mid, travel, &dl) < 0.0)
+                    lo = mid;
+                else
+                    hi = mid;
+            }
+            ray_value(b, sgn, 0.5 * (lo + hi), travel, delay);
+            return 0.5 * (lo + hi);
+        }
+        v0 = v;
+    }
+    return 0.0;
+}
+
+/* tol: the integrator's tolerance (0: the default); eps: the tolerance of
+ * hit_r (M), and relative of the delay and g, eps / 10 */
+static void moving(double tol, double eps)
+{
+    char text[1024];
+    const int w = 161, h = 3, j = 1;
+    cr_frame f;
+    cr_pixel *px;
+    int i, checked = 0, misses = 0, moved = 0;
+    double worst_r = 0.0, worst_t = 0.0, worst_g = 0.0;
+    double om = pow(RS, -1.5), fo = 1.0 - 2.0 / RO;
+    snprintf(text, sizeof text,
+             "metric: {m: 1, a: 0, q: 0}\n"
+             "observer: {r: %g, theta: 90, phi: 0, hfov: 60, t: %g}\n"
+             "sphere:\n  color: [0, 0, 255]\n  resolution: [1, 1]\n  r: %g\n  theta: 90\n"
+             "  phi: %.17g rad\n  radius: %g\n  motion: orbit\n",
+             RO, TOBS, RS, PHI0, RAD);
+    px = render(text, w, h, CR_INTEG_MINO, tol, &f);
+    for (i = 0; i < w; i++) {
+        const cr_pixel *p = &px[j * w + i];
+        double n[3], b, rt, r_end, delay = 0.0, vmin, rh, v2;
+        int sgn;
+        cr_camera_pixel_dir(&f, i, j, n);
+        assert_true(fabs(n[1]) < 1e-12); /* in the equator */
+        b = RO * fabs(n[2]) / sqrt(fo);
+        sgn = n[2] >= 0.0 ? 1 : -1;
+        rt = r_turn(b);
+        r_end = rt > 0.0 ? rt + 1e-3 : 2.0 + 1e-3;
+        rh = ray_hit(b, sgn, r_end, 1, &delay, &vmin);
+        if (rh > 0.0) {
+            /* expected: a hit on the way in */
+            double ut = 1.0 / sqrt(1.0 - 2.0 / rh - om * om * rh * rh);
+            double L_E = -sgn * b; /* the photon's L / E (forward) */
+            double g = 1.0 / (sqrt(fo) * ut * (1.0 - om * L_E));
+            double rs, dls;
+            assert_int_equal(p->outcome, CR_OUT_SPHERE);
+            worst_r = fmax(worst_r, fabs(p->hit_r - rh));
+            worst_t = fmax(worst_t, fabs(p->delay - delay) / delay);
+            worst_g = fmax(worst_g, fabs(p->redshift - g) / g);
+            assert_true(fabs(p->bolo - pow(p->redshift, 4.0)) <= 1e-14 * p->bolo);
+            /* the same sphere without travel time is met elsewhere or not */
+            rs = ray_hit(b, sgn, r_end, 0, &dls, &v2);
+            if (rs == 0.0 || fabs(rs - rh) > 1e-2)
+                moved++;
+            checked++;
+        } else if (vmin > 0.05 && (rt == 0.0 || rt > RS + RAD + 0.05)) {
+            /* well clear of the sphere on the way in, and turning outside
+             * its orbit (or falling in, the sphere not met before) */
+            if (rt > 0.0) {
+                assert_true(p->outcome != CR_OUT_SPHERE);
+                misses++;
+            }
+        }
+    }
+    print_message("moving sphere, tolerance %g: %d hit pixels checked (%d of them elsewhere "
+                  "without travel time), %d clear misses; worst hit_r %.3g M, delay %.3g, "
+                  "g %.3g (relative)\n",
+                  tol, checked, moved, misses, worst_r, worst_t, worst_g);
+    assert_true(worst_r <= eps);
+    assert_true(worst_t <= 0.1 * eps);
+    assert_true(worst_g <= 0.1 * eps);
+    assert_true(checked >= 2);
+    assert_true(moved >= 2);
+    assert_true(misses >= 10);
+    free(px);
+}
+
+static void test_moving(void **state)
+{
+    (void)state;
+    moving(1e-10, 1e-7);
+    moving(0.0, 1e-4); /* the default tolerance, 1e-7 */
+}
+
+/* ---- 3. bad input ---------------------------------------------------- */
+
+static void refused(const char *sphere_keys, const char *observer_extra, const char *want)
+{
+    char text[1024];
+    cr_scene s;
+    cr_err e;
+    cr_frame_eval ev;
+    int rc;
+    memset(&ev, 0, sizeof ev);
+    snprintf(text, sizeof text,
+             "metric: {m: 1, a: 0, q: 0}\n"
+             "observer: {r: 40, theta: 90, phi: 0, hfov: 60%s}\n"
+             "%s",
+             observer_extra, sphere_keys);
+    rc = load(text, &s, &e);
+    if (rc == 0) {
+        rc = cr_frame_eval_at(&ev, &s, 0, 1, 32, 32, NULL, &e);
+        cr_frame_eval_free(&ev);
+        cr_scene_free(&s);
+    }
+    if (rc == 0 || !strstr(e.msg, want))
+        fail_msg("expected a refusal naming '%s', got rc %d: %s", want, rc, e.msg);
+}
+
+#define SPH(extra) "sphere:\n  color: [0, 0, 255]\n  resolution: [1, 1]\n  theta: 90\n  phi: 0\n" \
+                   "  radius: 1\n" extra
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    /* faster than light: v = omega r / sqrt(1 - 2/r) > 1 at r = 8 */
+    refused(SPH("  r: 8\n  motion: rotating\n  omega: 0.2\n"), "", "speed of light");
+    /* at rest inside the ergosphere is no matter at rest: Kerr case below */
+    /* inside the photon orbit, inside the horizon */
+    refused(SPH("  r: 2.5\n  motion: orbit\n"), "", "motion: orbit at r = 2.5");
+    refused(SPH("  r: 1.5\n  motion: orbit\n"), "", "no circular orbit");
+    /* the orbit's keys without the orbit */
+    refused(SPH("  r: 8\n  retrograde: true\n"), "", "].retrograde");
+    refused(SPH("  r: 8\n  omega: 0.01\n"), "", "].omega");
+    refused(SPH("  r: isco\n"), "", "].r");
+    refused(SPH("  r: isco\n  motion: rotating\n"), "", "].r");
+    refused(SPH("  r: 8\n  motion: orbit\n  omega: 0.01\n"), "", "].omega");
+    /* the observer's time with nothing moving, or with no sphere at all */
+    refused(SPH("  r: 8\n"), ", t: 10", "observer.t");
+    refused("", ", dt: 1", "observer.dt");
+    /* non-finite values */
+    refused(SPH("  r: 8\n  motion: rotating\n  omega: .nan\n"), "", "].omega");
+    refused(SPH("  r: 8\n  motion: orbit\n"), ", t: .inf", "observer.t");
+    refused(SPH("  r: 8\n  motion: orbit\n"), ", dt: .nan", "observer.dt");
+    /* a moving sphere's place is not animated; an orbit is equatorial */
+    refused(SPH("  r: [linear, 8, 9]\n  motion: orbit\n"), "", "].r");
+    refused("sphere:\n  color: [0, 0, 255]\n  resolution: [1, 1]\n  theta: 80\n  phi: 0\n"
+            "  radius: 1\n  r: 8\n  motion: orbit\n",
+            "", "].theta");
+    refused(SPH("  r: 8\n  motion: wobbling\n"), "", "].motion");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_at_rest),
+        cmocka_unit_test(test_moving),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
