@@ -1,25 +1,46 @@
-/* curray orbit: the worldline of a massive or charged particle as CSV
- * (docs/command-line.md, "Orbits"; the file's keys: docs/scenes.md).
+/* curray orbit: the worldline of a massive or charged particle as CSV, and
+ * with -t c its lensed picture (docs/command-line.md, "Orbits"; the file's
+ * keys: docs/scenes.md).
  *
- *   curray orbit -s <orbit file> -o <output directory> [-q]
+ *   curray orbit -s <orbit file> -o <output directory> [-t c] [-x W] [-y H] [-q]
  *
- * Loads and checks the orbit file (nothing is written when it is refused),
- * integrates the worldline (src/core/particle.h) and writes
- * <output directory>/orbit.csv atomically, then prints the constants and
- * how the worldline ended. Exit status: 0 done, 1 error, 2 usage error.
+ * Loads and checks the orbit file and, for -t c, the scene of its view
+ * section (nothing is written when either is refused), integrates the
+ * worldline (src/core/particle.h) and writes <output directory>/orbit.csv;
+ * with -t c it also renders frame 0 of the view's scene on the CPU and
+ * draws the worldline's images over it (src/output/orbit_picture.h) into
+ * orbit.png, with the images' positions in orbit_image.csv. The files
+ * appear together at the end (each written atomically, orbit.csv last).
+ * Prints the constants and how the worldline ended. Exit status: 0 done,
+ * 1 error, 2 usage error.
  */
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../base/fsutil.h"
+#include "../base/png_io.h"
+#include "../input/scene.h"
+#include "../output/orbit_picture.h"
 #include "../output/worldline.h"
+#include "../render/cpu.h"
 #include "app.h"
 
+/* The picture's default size (pixels) and the largest side. */
+#define ORBIT_DEFAULT_W 320
+#define ORBIT_DEFAULT_H 240
+#define ORBIT_MAX_SIDE 8192
+
 static const char *const orbit_usage =
-    "usage: curray orbit -s <orbit file> -o <output directory> [-q]\n"
+    "usage: curray orbit -s <orbit file> -o <output directory> [-t c] [-x W] [-y H] [-q]\n"
     "  writes the worldline of the file's particle to <output directory>/orbit.csv\n"
-    "  (columns tau, t, r, theta, phi, x, y, z, u^t, u^r, u^theta, u^phi)\n";
+    "  (columns tau, t, r, theta, phi, x, y, z, u^t, u^r, u^theta, u^phi);\n"
+    "  -t c also draws it as the camera of the file's view sees it, lensed, over\n"
+    "  the view's scene: orbit.png (W x H pixels, default 320 x 240) and\n"
+    "  orbit_image.csv (where each point's images are)\n";
 
 static const char *end_text(int ended)
 {
@@ -33,28 +54,190 @@ static const char *end_text(int ended)
     }
 }
 
+/* The rows kept for the picture: every stride-th and the last. */
+typedef struct orbit_tap {
+    cr_opic_point *pts;
+    long n, cap, seen, stride;
+    double last[CR_WL_COLS];
+    int have_last; /* last holds a row not kept */
+    const cr_metric *mt;
+    cr_err *err;
+} orbit_tap;
+
+static int tap_row(void *ctx, const double *row)
+{
+    orbit_tap *t = (orbit_tap *)ctx;
+    int i;
+    if (t->seen++ % t->stride == 0) {
+        if (t->n == t->cap) {
+            long cap = t->cap ? 2 * t->cap : 1024;
+            cr_opic_point *g = realloc(t->pts, (size_t)cap * sizeof *g);
+            if (!g)
+                return cr_err_set(t->err, "out of memory for the orbit's picture");
+            t->pts = g;
+            t->cap = cap;
+        }
+        cr_opic_point_of_row(row, t->mt, &t->pts[t->n++]);
+        t->have_last = 0;
+        return 0;
+    }
+    for (i = 0; i < CR_WL_COLS; i++)
+        t->last[i] = row[i];
+    t->have_last = 1;
+    return 0;
+}
+
+/* -t for curray orbit: c only. */
+static int check_types(const char *t)
+{
+    const char *p;
+    if (!t[0]) {
+        fprintf(stderr, "curray orbit: -t: empty output type; use c (the lensed picture)\n%s",
+                orbit_usage);
+        return -1;
+    }
+    for (p = t; *p; p++)
+        if (*p != 'c') {
+            fprintf(stderr,
+                    "curray orbit: -t: '%c' is not an output of curray orbit; use c (the "
+                    "lensed picture orbit.png; orbit.csv is always written)\n%s",
+                    *p, orbit_usage);
+            return -1;
+        }
+    return 0;
+}
+
+static int side_arg(const char *opt, const char *v, int *out)
+{
+    char *end;
+    long n = strtol(v, &end, 10);
+    if (!v[0] || *end || n < 1 || n > ORBIT_MAX_SIDE) {
+        fprintf(stderr, "curray orbit: %s: expected a size from 1 to %d pixels, got '%s'\n%s",
+                opt, ORBIT_MAX_SIDE, v, orbit_usage);
+        return -1;
+    }
+    *out = (int)n;
+    return 0;
+}
+
+/* The view's scene, checked against the orbit file, as frame 0 of 1 at
+ * W x H in *ev. Returns 0, or -1 with err set (naming view.scene). */
+static int load_view(const cr_particle_spec *spec, const char *orbit_path, int w, int h,
+                     cr_scene *sc, cr_frame_eval *ev, cr_err *err)
+{
+    const cr_orbit_view *v = &spec->view;
+    cr_err e;
+    if (!v->given)
+        return cr_err_set(err,
+                          "%s: -t c needs a camera: the orbit file has no view section "
+                          "(view: {scene: FILE}, a scene file whose observer takes the "
+                          "picture)",
+                          orbit_path);
+    if (cr_scene_load(v->scene, sc, &e))
+        return cr_err_set(err, "%s%s", v->where, e.msg);
+    if (sc->m.a != sc->m.b || sc->a.a != sc->a.b || sc->q.a != sc->q.b ||
+        sc->m.a != spec->mt.m || sc->a.a != spec->mt.a || sc->q.a != spec->mt.q) {
+        cr_err_set(err,
+                   "%sthe scene's metric (m %g, a %g, q %g) is not the orbit file's (m %g, "
+                   "a %g, q %g): the picture needs the same hole",
+                   v->where, sc->m.a, sc->a.a, sc->q.a, spec->mt.m, spec->mt.a, spec->mt.q);
+        cr_scene_free(sc);
+        return -1;
+    }
+    if ((sc->disc_exposure_auto &&
+         cr_scene_auto_exposure(sc, 1, w, h, NULL, NULL, &e)) ||
+        cr_frame_eval_at(ev, sc, 0, 1, w, h, NULL, &e)) {
+        cr_err_set(err, "%s%s", v->where, e.msg);
+        cr_frame_eval_free(ev);
+        cr_scene_free(sc);
+        return -1;
+    }
+    return 0;
+}
+
+/* The picture of the rows in tap into dir: orbit.png and orbit_image.csv.
+ * Returns 0, or -1 with err set and neither file left. */
+static int write_picture(const cr_particle_spec *spec, const cr_frame *f, orbit_tap *tap,
+                         const char *dir, long *images, long *lost, cr_err *err)
+{
+    char png[4096], csv[4096];
+    size_t np = (size_t)f->width * f->height;
+    cr_pixel *px = malloc(np * sizeof *px);
+    uint8_t *rgb = malloc(np * 3);
+    cr_opic_result r;
+    int rc = -1;
+    memset(&r, 0, sizeof r);
+    if (!px || !rgb) {
+        cr_err_set(err, "out of memory for a %d x %d picture", f->width, f->height);
+        goto done;
+    }
+    if (cr_path_join(png, sizeof png, dir, "orbit.png") ||
+        cr_path_join(csv, sizeof csv, dir, "orbit_image.csv")) {
+        cr_err_set(err, "output path too long: %s", dir);
+        goto done;
+    }
+    if (cr_cpu_render(f, 0, px, NULL, NULL, NULL, err) ||
+        cr_opic_trace(f, tap->pts, tap->n, &spec->view, &r, err))
+        goto done;
+    cr_opic_draw(f, px, &r, &spec->view, tap->pts[0].tau, tap->pts[tap->n - 1].tau, rgb);
+    if (cr_opic_write_csv(&r, csv, err))
+        goto done;
+    if (cr_png_write(png, f->width, f->height, rgb, err)) {
+        unlink(csv);
+        goto done;
+    }
+    *images = r.n;
+    *lost = r.lost;
+    rc = 0;
+done:
+    cr_opic_result_free(&r);
+    free(px);
+    free(rgb);
+    return rc;
+}
+
 int cr_orbit_command(int argc, char **argv)
 {
     static const struct option longopts[] = {{"scene_file", required_argument, 0, 's'},
                                              {"output_dir", required_argument, 0, 'o'},
+                                             {"output_type", required_argument, 0, 't'},
+                                             {"x_res", required_argument, 0, 'x'},
+                                             {"y_res", required_argument, 0, 'y'},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
-    const char *scene = NULL, *out = NULL;
+    const char *scene = NULL, *out = NULL, *types = NULL;
     char path[4096];
-    int quiet = 0, c;
+    int quiet = 0, c, w = ORBIT_DEFAULT_W, h = ORBIT_DEFAULT_H, picture;
+    int rc = CR_EXIT_ERROR;
+    long images = 0, lost = 0;
     cr_particle_spec spec;
     cr_worldline_info info;
+    cr_scene sc;
+    cr_frame_eval ev;
+    cr_atomic a;
+    orbit_tap tap;
     cr_err err;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "s:o:qh", longopts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "s:o:t:x:y:qh", longopts, NULL)) != -1) {
         switch (c) {
         case 's':
             scene = optarg;
             break;
         case 'o':
             out = optarg;
+            break;
+        case 't':
+            types = optarg;
+            break;
+        case 'x':
+            if (side_arg("-x", optarg, &w))
+                return CR_EXIT_USAGE;
+            break;
+        case 'y':
+            if (side_arg("-y", optarg, &h))
+                return CR_EXIT_USAGE;
             break;
         case 'q':
             quiet = 1;
@@ -76,21 +259,69 @@ int cr_orbit_command(int argc, char **argv)
         fprintf(stderr, "curray orbit: %s is required\n%s", !scene ? "-s" : "-o", orbit_usage);
         return CR_EXIT_USAGE;
     }
+    if (types && check_types(types))
+        return CR_EXIT_USAGE;
+    picture = types != NULL;
     if (cr_particle_spec_load(scene, &spec, &err)) {
+        fprintf(stderr, "curray: %s\n", err.msg);
+        return CR_EXIT_ERROR;
+    }
+    memset(&ev, 0, sizeof ev);
+    memset(&sc, 0, sizeof sc);
+    memset(&tap, 0, sizeof tap);
+    if (picture && load_view(&spec, scene, w, h, &sc, &ev, &err)) {
         fprintf(stderr, "curray: %s\n", err.msg);
         return CR_EXIT_ERROR;
     }
     if (cr_path_join(path, sizeof path, out, "orbit.csv")) {
         fprintf(stderr, "curray: output path too long: %s\n", out);
-        return CR_EXIT_ERROR;
+        goto done;
     }
-    if (cr_mkdir_p(out, &err) || cr_worldline_write_csv(&spec, path, &info, &err)) {
+    tap.mt = &spec.mt;
+    tap.err = &err;
+    tap.stride = 1;
+    {
+        double rows = floor(spec.tau / spec.dtau) + 2.0;
+        if (rows > CR_OPIC_MAX_POINTS)
+            tap.stride = (long)ceil(rows / CR_OPIC_MAX_POINTS);
+    }
+    if (cr_mkdir_p(out, &err) ||
+        cr_worldline_write_csv_open(&spec, path, picture ? tap_row : NULL, &tap, &a, &info,
+                                    &err)) {
         fprintf(stderr, "curray: %s\n", err.msg);
-        return CR_EXIT_ERROR;
+        goto done;
     }
-    if (!quiet)
+    if (picture) {
+        /* the last row, when the thinning left it out */
+        tap.stride = 1;
+        if (tap.have_last && tap_row(&tap, tap.last)) {
+            cr_atomic_abort(&a);
+            fprintf(stderr, "curray: %s\n", err.msg);
+            goto done;
+        }
+        if (write_picture(&spec, &ev.frame, &tap, out, &images, &lost, &err)) {
+            cr_atomic_abort(&a);
+            fprintf(stderr, "curray: %s\n", err.msg);
+            goto done;
+        }
+    }
+    if (cr_atomic_commit(&a, &err)) {
+        fprintf(stderr, "curray: %s\n", err.msg);
+        goto done;
+    }
+    if (!quiet) {
         printf("curray orbit: E = %.15g, L = %.15g, K = %.15g; %ld rows, %ld steps; %s\n"
                "wrote %s\n",
                info.E, info.L, info.K, info.rows, info.steps, end_text(info.ended), path);
-    return CR_EXIT_OK;
+        if (picture)
+            printf("curray orbit: %ld images of %ld points in orders 0 to %d (%ld points "
+                   "without an image); wrote %s/orbit.png, %s/orbit_image.csv\n",
+                   images, tap.n, spec.view.orders - 1, lost, out, out);
+    }
+    rc = CR_EXIT_OK;
+done:
+    free(tap.pts);
+    cr_frame_eval_free(&ev);
+    cr_scene_free(&sc);
+    return rc;
 }

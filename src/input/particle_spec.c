@@ -283,10 +283,71 @@ static int parse_particle(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_par
     return check_start(y, f, s, err);
 }
 
-int cr_particle_spec_load_string(const char *text, size_t len, const char *name,
-                                 cr_particle_spec *s, cr_err *err)
+/* The view section: the picture of -t c. base: the orbit file's folder
+ * ("" or ending in '/'), against which a relative view.scene resolves. */
+static int parse_view(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *base,
+                      cr_particle_spec *s, cr_err *err)
 {
-    cr_yaml_field f[2] = {FREQ("metric"), FREQ("particle")};
+    cr_orbit_view *v = &s->view;
+    cr_yaml_field f[4] = {FREQ("scene"), FOPT("color"), FOPT("line_width"), FOPT("orders")};
+    const char *scene;
+    cr_err at;
+    long orders = 2;
+    v->given = 1;
+    v->by_tau = 1;
+    v->line_width = 1.5;
+    if (cr_yaml_fields(y, map, "view", key, f, 4, err) ||
+        cr_yaml_string(y, f[0].value, "view.scene", &scene, err))
+        return -1;
+    if (snprintf(v->scene, sizeof v->scene, "%s%s", scene[0] == '/' ? "" : base, scene) >=
+        (int)sizeof v->scene)
+        return cr_yaml_fail(y, f[0].value, "view.scene", err, "the path is too long");
+    cr_yaml_fail(y, f[0].value, "view.scene", &at, "%s", "");
+    snprintf(v->where, sizeof v->where, "%s", at.msg);
+    if (f[1].value && !cr_yaml_scalar_is(f[1].value, "proper_time")) {
+        yaml_node_t *it[3];
+        long c[3];
+        int i;
+        if (f[1].value->type != YAML_SEQUENCE_NODE) {
+            char got[96];
+            cr_yaml_describe(f[1].value, got, sizeof got);
+            return cr_yaml_fail(y, f[1].value, "view.color", err,
+                                "expected proper_time or a colour [R, G, B], got %s", got);
+        }
+        if (cr_yaml_list(y, f[1].value, "view.color", 3, "a colour [R, G, B]", it, NULL, err))
+            return -1;
+        for (i = 0; i < 3; i++) {
+            char p[CR_YAML_PATH];
+            cr_yaml_path_index(p, sizeof p, "view.color", i);
+            if (cr_yaml_int(y, it[i], p, 0, 255, "a colour component, an integer from 0 to 255",
+                            &c[i], err))
+                return -1;
+        }
+        v->by_tau = 0;
+        v->color.r = (uint8_t)c[0];
+        v->color.g = (uint8_t)c[1];
+        v->color.b = (uint8_t)c[2];
+    }
+    if (f[2].value) {
+        if (cr_yaml_number(y, f[2].value, "view.line_width", &v->line_width, err))
+            return -1;
+        if (!(v->line_width > 0.0 && v->line_width <= 16.0))
+            return cr_yaml_fail(y, f[2].value, "view.line_width", err,
+                                "expected a width in pixels in (0, 16], got %g", v->line_width);
+    }
+    if (f[3].value &&
+        cr_yaml_int(y, f[3].value, "view.orders", 1, 4,
+                    "the number of image orders drawn, 1 (the direct image) to 4", &orders, err))
+        return -1;
+    v->orders = (int)orders;
+    return 0;
+}
+
+/* The common part of both loaders; base as for parse_view. */
+static int load_text(const char *text, size_t len, const char *name, const char *base,
+                     cr_particle_spec *s, cr_err *err)
+{
+    cr_yaml_field f[3] = {FREQ("metric"), FREQ("particle"), FOPT("view")};
     cr_yaml y;
     yaml_node_t *root;
     int rc = -1;
@@ -298,14 +359,21 @@ int cr_particle_spec_load_string(const char *text, size_t len, const char *name,
         cr_err_set(err, "%s: an orbit file is a mapping with metric and particle", y.name);
         goto done;
     }
-    if (cr_yaml_fields(&y, root, NULL, NULL, f, 2, err) ||
+    if (cr_yaml_fields(&y, root, NULL, NULL, f, 3, err) ||
         parse_metric(&y, f[0].key_node, f[0].value, s, err) ||
-        parse_particle(&y, f[1].key_node, f[1].value, s, err))
+        parse_particle(&y, f[1].key_node, f[1].value, s, err) ||
+        (f[2].key_node && parse_view(&y, f[2].key_node, f[2].value, base, s, err)))
         goto done;
     rc = 0;
 done:
     cr_yaml_free(&y);
     return rc;
+}
+
+int cr_particle_spec_load_string(const char *text, size_t len, const char *name,
+                                 cr_particle_spec *s, cr_err *err)
+{
+    return load_text(text, len, name, "", s, err);
 }
 
 int cr_particle_spec_load(const char *path, cr_particle_spec *s, cr_err *err)
@@ -320,7 +388,19 @@ int cr_particle_spec_load(const char *path, cr_particle_spec *s, cr_err *err)
         cr_err inner = *err;
         return cr_err_set(err, "orbit file %s", inner.msg);
     }
-    rc = cr_particle_spec_load_string(text, len, path, s, err);
+    {
+        /* the folder of the file, for a relative view.scene */
+        const char *slash = strrchr(path, '/');
+        char base[4096];
+        size_t n = slash ? (size_t)(slash - path) + 1 : 0;
+        if (n >= sizeof base) {
+            free(text);
+            return cr_err_set(err, "orbit file %s: the path is too long", path);
+        }
+        memcpy(base, path, n);
+        base[n] = '\0';
+        rc = load_text(text, len, path, base, s, err);
+    }
     free(text);
     return rc;
 }

@@ -16,6 +16,21 @@
 #include "../base/error.h"
 #include "core/particle.h"
 
+/* The optional view section of an orbit file: the picture that
+ * `curray orbit -t c` draws (docs/scenes.md, "The lensed picture"). */
+typedef struct cr_orbit_view {
+    int given;            /* the file has a view section */
+    char scene[4096];     /* view.scene: a scene file (its camera, disc, spheres and sky),
+                             relative to the orbit file's folder */
+    char where[CR_ERR_MSG]; /* "FILE:LINE:COL: view.scene: " for messages about that scene */
+    int by_tau;           /* view.color: proper_time (the default): from the first
+                             row's colour to the last's */
+    cr_rgb color;         /* view.color: [R, G, B], one colour */
+    double line_width;    /* view.line_width: pixels, (0, 16], default 1.5 */
+    int orders;           /* view.orders: images drawn, orders 0 .. orders - 1 (1 the
+                             direct image only, 2 with the secondary, default 2; at most 4) */
+} cr_orbit_view;
+
 /* The kinds of initial data (exactly one in a file). */
 enum {
     CR_PSPEC_VELOCITY = 0, /* 3-velocity measured by a static observer or the ZAMO */
@@ -39,6 +54,7 @@ typedef struct cr_particle_spec {
     double tolerance;       /* DP5 tolerance */
     double r_max;           /* escape radius */
     double horizon_epsilon; /* the worldline ends at r+ + this */
+    cr_orbit_view view;     /* the view section (view.given = 0: none) */
 } cr_particle_spec;
 
 /* Largest number of rows a worldline may have (tau / dtau). */

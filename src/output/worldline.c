@@ -88,9 +88,12 @@ int cr_worldline_run(const cr_particle_spec *s, int (*emit)(void *ctx, const dou
     return 0;
 }
 
-/* The CSV sink: one line per row. */
+/* The CSV sink: one line per row, then the tap. */
 typedef struct csv_sink {
     FILE *fp;
+    int (*tap)(void *, const double *);
+    void *ctx;
+    int tapped; /* the tap stopped the run */
 } csv_sink;
 
 static int csv_row(void *ctx, const double *row)
@@ -104,26 +107,44 @@ static int csv_row(void *ctx, const double *row)
         e += cr_shortest_double(e, row[i]);
     }
     *e++ = '\n';
-    return fwrite(line, 1, (size_t)(e - line), c->fp) == (size_t)(e - line) ? 0 : -1;
+    if (fwrite(line, 1, (size_t)(e - line), c->fp) != (size_t)(e - line))
+        return -1;
+    if (c->tap && c->tap(c->ctx, row)) {
+        c->tapped = 1;
+        return -1;
+    }
+    return 0;
+}
+
+int cr_worldline_write_csv_open(const cr_particle_spec *s, const char *path,
+                                int (*tap)(void *ctx, const double *row), void *ctx,
+                                cr_atomic *a, cr_worldline_info *info, cr_err *err)
+{
+    csv_sink c;
+    int i;
+    if (cr_atomic_open(a, path, err))
+        return -1;
+    c.fp = a->fp;
+    c.tap = tap;
+    c.ctx = ctx;
+    c.tapped = 0;
+    for (i = 0; i < CR_WL_COLS; i++)
+        fprintf(a->fp, "%s%s", i ? "," : "", cr_worldline_columns[i]);
+    fputc('\n', a->fp);
+    if (cr_worldline_run(s, csv_row, &c, info, err)) {
+        if (!c.tapped && ferror(a->fp))
+            cr_stream_check(a->fp, path, err);
+        cr_atomic_abort(a);
+        return -1;
+    }
+    return 0;
 }
 
 int cr_worldline_write_csv(const cr_particle_spec *s, const char *path, cr_worldline_info *info,
                            cr_err *err)
 {
     cr_atomic a;
-    csv_sink c;
-    int i;
-    if (cr_atomic_open(&a, path, err))
+    if (cr_worldline_write_csv_open(s, path, NULL, NULL, &a, info, err))
         return -1;
-    c.fp = a.fp;
-    for (i = 0; i < CR_WL_COLS; i++)
-        fprintf(a.fp, "%s%s", i ? "," : "", cr_worldline_columns[i]);
-    fputc('\n', a.fp);
-    if (cr_worldline_run(s, csv_row, &c, info, err)) {
-        if (ferror(a.fp))
-            cr_stream_check(a.fp, path, err);
-        cr_atomic_abort(&a);
-        return -1;
-    }
     return cr_atomic_commit(&a, err);
 }

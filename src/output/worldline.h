@@ -10,6 +10,7 @@
 #ifndef CR_OUTPUT_WORLDLINE_H
 #define CR_OUTPUT_WORLDLINE_H
 
+#include "../base/atomic.h"
 #include "../base/error.h"
 #include "../input/particle_spec.h"
 
@@ -36,5 +37,15 @@ int cr_worldline_run(const cr_particle_spec *s, int (*emit)(void *ctx, const dou
  * no file). */
 int cr_worldline_write_csv(const cr_particle_spec *s, const char *path, cr_worldline_info *info,
                            cr_err *err);
+
+/* The same into the atomic file *a opened here for path, handing each row
+ * to tap(ctx, row) as well (tap may be NULL; a non-zero return stops the
+ * run with err set by tap), and leaving the complete file uncommitted on
+ * success: the caller commits or aborts *a (cr_atomic_commit, _abort), so
+ * that files written together appear together. On failure nothing is
+ * left. */
+int cr_worldline_write_csv_open(const cr_particle_spec *s, const char *path,
+                                int (*tap)(void *ctx, const double *row), void *ctx,
+                                cr_atomic *a, cr_worldline_info *info, cr_err *err);
 
 #endif
