@@ -103,11 +103,15 @@ static void check_frame(const cr_frame *f, int n_spheres)
     CHECK(f->sky_boundary >= 0.0 && isfinite(f->sky_boundary));
     CHECK(isfinite(f->r_stop));
     /* 1/u^t: negative between the horizons, where BL t runs backward along
-     * the free fall (camera.h), and only there, under mino */
-    CHECK((f->obs_inside ? f->obs_sqrt_mgtt < 0.0 : f->obs_sqrt_mgtt > 0.0) &&
+     * the free fall (camera.h), and only there (inside r- it is positive
+     * again), under mino */
+    CHECK((f->obs_inside && !f->obs_inner ? f->obs_sqrt_mgtt < 0.0 : f->obs_sqrt_mgtt > 0.0) &&
           isfinite(f->obs_sqrt_mgtt));
+    CHECK(!f->obs_inner || f->obs_inside);
     if (f->obs_inside)
-        CHECK(f->integrator == CR_INTEG_MINO && f->observer.r > cr_metric_r_minus(&f->metric) &&
+        CHECK(f->integrator == CR_INTEG_MINO &&
+              (f->obs_inner ? f->observer.r > 0.0 && f->observer.r < cr_metric_r_minus(&f->metric)
+                            : f->observer.r > cr_metric_r_minus(&f->metric)) &&
               f->observer.r < cr_metric_r_plus(&f->metric) &&
               (f->observer.motion == CR_MOTION_INFALL ||
                f->observer.motion == CR_MOTION_VELOCITY));
