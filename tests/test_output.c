@@ -1114,12 +1114,12 @@ static void test_info(void **state)
 static void test_output_types(void **state)
 {
     fixture *f = *state;
-    static const char *const list = "use any of i, c, r, d, b, n, s, f, v";
+    static const char *const list = "use any of i, c, r, d, b, n, s, l, f, v";
     cr_err err;
     char want[256], one[2] = {0, 0}, bad[3] = {'c', 0, 0}, out[16], path[4096];
     int n = cr_output_type_count(), frames = 0;
 
-    assert_int_equal(n, 9);
+    assert_int_equal(n, 10);
     for (int i = 0; i < n; i++) {
         const cr_output_type *t = cr_output_type_at(i);
         assert_ptr_equal(cr_output_type_find(t->letter), t);
@@ -1136,7 +1136,7 @@ static void test_output_types(void **state)
         }
         frames += t->scope == CR_OUTPUT_PER_FRAME;
     }
-    assert_int_equal(frames, 7);
+    assert_int_equal(frames, 8);
     assert_null(cr_output_type_at(n));
     assert_null(cr_output_type_at(-1));
     for (int c = 1; c < 256; c++) {

@@ -552,9 +552,11 @@ static void check_shot(const shot *s, const char *name)
         case CR_OUT_DISC:
         case CR_OUT_SPHERE: {
             int want_rgb[3];
-            /* a Keplerian disc's g (moving matter) may exceed the sky's */
+            /* a Keplerian disc's or a moving sphere's g (moving matter) may
+             * exceed the sky's */
             const int kep = p->outcome == CR_OUT_DISC && f->disc.model == CR_DISC_KEPLERIAN;
-            assert_true(r->z > 0.0 && (kep || moving || r->z < z_sky));
+            const int spm = p->outcome == CR_OUT_SPHERE && f->spheres[p->object].moving;
+            assert_true(r->z > 0.0 && (kep || spm || moving || r->z < z_sky));
             redshift_rgb(r->z, want_rgb);
             assert_true(rgb_is(z, want_rgb[0], want_rgb[1], want_rgb[2]));
             zmin = fmin(zmin, r->z);

@@ -87,7 +87,9 @@ static const cr_cli_option cr_cli_options[] = {
      "f (f_<k>.fits: redshift, hit, outcome, steps, error),\n"
      "b (b_<k>.png bolometric g^4 F, Keplerian disc),\n"
      "n (n_<k>.png image order: direct image, rings),\n"
-     "s (s_<k>.csv line profile and continuum, Keplerian disc);\n"
+     "s (s_<k>.csv line profile and continuum, Keplerian disc),\n"
+     "l (l_<k>.csv light curve: flux and centroid of the\n"
+     "frame's emitting pixels, moving spheres and Keplerian disc);\n"
      "v (c.mp4, plus r.mp4 with r: MP4 videos);\n"
      "default icr",
      0, NULL},

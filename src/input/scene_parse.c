@@ -369,12 +369,6 @@ static int parse_observer(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, cr_sce
         field_anim(y, &f[TIME], p, V_NUMBER, 0.0, &s->obs_t, err) ||
         (f[DTIME].value && cr_yaml_number(y, f[DTIME].value, "observer.dt", &s->obs_dt, err)))
         return -1;
-    if (!isfinite(s->obs_t.a) || !isfinite(s->obs_t.b))
-        return cr_yaml_fail(y, f[TIME].value, "observer.t", err,
-                            "the observer's time must be a finite number");
-    if (!isfinite(s->obs_dt))
-        return cr_yaml_fail(y, f[DTIME].value, "observer.dt", err,
-                            "the time between frames must be a finite number");
     if (inf) {
         s->obs_at_infinity = 1;
         s->obs_r.a = s->obs_r.b = INFINITY;
@@ -886,11 +880,8 @@ static int parse_sphere_motion(cr_yaml *y, const cr_yaml_field *fm, const cr_yam
             return cr_yaml_fail(y, fo->key_node, sub, err,
                                 "applies only to motion: rotating (its angular velocity "
                                 "dphi/dt)");
-        if (cr_yaml_number(y, fo->value, sub, &sp->omega, err))
+        if (cr_yaml_number(y, fo->value, sub, &sp->omega, err)) /* finite */
             return -1;
-        if (!isfinite(sp->omega))
-            return cr_yaml_fail(y, fo->value, sub, err,
-                                "the angular velocity must be a finite number");
     }
     if (sp->motion == CR_SPHERE_MOTION_STATIC)
         return 0;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "fits.h"
+#include "lightcurve.h"
 #include "output.h"
 #include "spectrum.h"
 
@@ -19,6 +20,7 @@ static const cr_output_type cr_output_types[] = {
     {'b', CR_OUTPUT_PER_FRAME, "png", cr_output_write_bolometric, 0, NULL, NULL},
     {'n', CR_OUTPUT_PER_FRAME, "png", cr_output_write_order, 0, NULL, NULL},
     {'s', CR_OUTPUT_PER_FRAME, "csv", cr_output_write_spectrum, 0, NULL, NULL},
+    {'l', CR_OUTPUT_PER_FRAME, "csv", cr_output_write_lightcurve, 0, NULL, NULL},
     {'f', CR_OUTPUT_PER_FRAME, "fits", cr_output_write_fits, 0, cr_fits_available,
      CR_FITS_MISSING},
     {'v', CR_OUTPUT_PER_RUN, "c.mp4", NULL, 'c', NULL, NULL},                 /* video.h */
@@ -44,7 +46,7 @@ int cr_output_type_count(void)
     return CR_N_OUTPUT_TYPES;
 }
 
-/* "i, c, r, d, b, n, s, f, v" into out[n]. */
+/* "i, c, r, d, b, n, s, l, f, v" into out[n]. */
 static void cr_output_letters_list(char *out, size_t n)
 {
     size_t len = 0;

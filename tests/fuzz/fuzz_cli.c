@@ -118,7 +118,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         const char *p;
         CHECK(c.output_type[0] != '\0');
         for (p = c.output_type; *p; p++)
-            CHECK(strchr("icrdbnsfv", *p) != NULL);
+            CHECK(strchr("icrdbnslfv", *p) != NULL);
     }
 done:
     for (i = 1; i < argc; i++)
