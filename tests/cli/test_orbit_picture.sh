@@ -11,9 +11,15 @@
 #   every image in orbit_image.csv within 0.02 px of its ring, every pixel
 #   drawn within 1 px (half the line width plus the antialiasing) of one,
 #   the coverage-weighted radius of each ring within 0.25 px, and both rings
-#   closed (drawn in every 10-degree sector);
+#   closed (drawn in every 10-degree sector); t_obs - t the same all round a
+#   ring (1e-5 M), the secondary's light later than the direct image's by
+#   the difference of the two rays' time integrals (dt/du = 1 / ((1 - 2u)
+#   u^2 b sqrt(1/b^2 - u^2 + 2u^3)), 1e-4 M; 25.9347 M);
 # - seen from 80 degrees: every image where the formula puts it (0.02 px),
 #   the far side of the orbit above the shadow and the near side below it;
+# - seen from 89 degrees, where the orbit passes within 1 degree of the line
+#   of sight (the images close to the Einstein ring): those images too
+#   (0.05 px), the far side's direct images above the shadow;
 # - a sphere in front of the near side hides its direct images (visible 0)
 #   and leaves the far side's;
 # and the refused requests: exit 1 or 2 naming the option or key, nothing
@@ -70,6 +76,37 @@ def b_image(psi, R, order):
         return bisect(lambda b: phi_in(b, R), 1e-9, bmax, target)
     # outbound: phi_out falls from infinity (b -> BC) to phi_in(bmax)
     return bisect(lambda b: -phi_out(b, R), BC * (1 + 1e-12), bmax, -target)
+def tailh(b, uR, h):  # int_uR^u0 h(u) du / sqrt(F), u = u0 - (u0 - uR) w^2
+    u0 = periapsis(b)
+    d = max(u0 - uR, 0.0)
+    def g(w):
+        u = u0 - d * w * w
+        if w == 0:
+            return 2 * math.sqrt(d) / math.sqrt(2 * u0 * (1 - 3 * u0)) * h(u0)
+        return 2 * d * w / math.sqrt(max(F(u, b), 1e-300)) * h(u)
+    return simpson(g, 0.0, 1.0)
+def dt_reg(u, b):  # dt/du - (1/u^2 + 2/u) along the ray (its limit at u = 0)
+    if u == 0:
+        return 4 + b * b / 2
+    s = math.sqrt(1 - b * b * u * u + 2 * b * b * u ** 3)
+    return (1 / ((1 - 2 * u) * s) - 1 - 2 * u) / (u * u)
+def G0(a, c):  # int_a^c (1/u^2 + 2/u) du
+    return (1 / a - 1 / c) + 2 * math.log(c / a)
+def t_ray(b, R, outbound):
+    """coordinate time from infinity to radius R along the ray of impact
+    parameter b (dt/du = 1 / ((1 - 2u) u^2 b sqrt(F))), less the integral
+    of 1/u^2 + 2/u from 0 to 1/R, the same for every ray: the difference of
+    two rays' t_ray is the difference of their light's delays"""
+    uR, h = 1.0 / R, lambda u: 1 / ((1 - 2 * u) * u * u * b)
+    if b <= BC:
+        return simpson(lambda u: dt_reg(u, b), 0.0, uR)
+    u0 = periapsis(b)
+    ua = u0 / 2
+    t_in = (simpson(lambda u: dt_reg(u, b), 0.0, ua) + tailh(b, ua, h) - G0(ua, u0)
+            - (tailh(b, uR, h) - G0(uR, u0)))
+    return t_in + (2 * tailh(b, uR, h) if outbound else 0.0)
+def inbound(psi, R):  # the direct image's light reaches R before its periapsis
+    return phi_out(R / math.sqrt(1 - 2 / R), R) >= psi
 def image(P, th_o, order, W, H, hext):
     """expected pixel (i, j) of P's image for the observer at infinity at
     theta th_o, phi 0 (right = e_phi, up = -e_theta)"""
@@ -176,6 +213,15 @@ print("drawn pixels: farthest %.3f px from a ring; weighted radii off by %.3f, %
 assert far <= 1.0 + 1e-9, far
 assert all(abs(rsum[k] / wsum[k] - rb[k]) < 0.25 for k in (0, 1))
 assert all(len(sectors[k]) == 36 for k in (0, 1)), [len(x) for x in sectors]
+# the light's delays: the same all round each ring, the secondary's longer by
+# the time integral's difference of the two rays
+dl = [[q["t_obs"] - q["t"] for q in im if q["order"] == k] for k in (0, 1)]
+want = t_ray(rb[1] * s, 10, True) - t_ray(rb[0] * s, 10, not inbound(math.pi / 2, 10))
+got = sum(dl[1]) / len(dl[1]) - sum(dl[0]) / len(dl[0])
+print("delays: spread %.1e, %.1e M; secondary later by %.6f M (integral %.6f M)"
+      % (max(dl[0]) - min(dl[0]), max(dl[1]) - min(dl[1]), got, want))
+assert all(max(d) - min(d) < 1e-5 for d in dl)
+assert abs(got - want) < 1e-4
 PY
 then ok "face-on: the direct and secondary rings of Darwin's integral"; else bad "face-on: rings" "python check"; fi
 
@@ -220,6 +266,49 @@ assert px[round(above["j"])][round(above["i"])][0] > 128
 PY
 then ok "80 degrees: every image as the formula says, the far side above the hole"
 else bad "80 degrees" "rc $RC"; fi
+
+# --- seen from 89 degrees: near the line of sight the unsigned sweep tells the orders
+cat > edge.yml <<'YML'
+metric: {m: 1, a: 0, q: 0}
+observer: {r: inf, theta: 89, phi: 0, hextent: 40}
+horizon_color: [0, 0, 0]
+YML
+orbit edge edge.yml
+run orbit -s o-edge.yml -o edge -t c -x 240 -y 200
+if [ $RC = 0 ] && python3 - <<'PY'
+import math
+from darwin import *
+W, H, th = 240, 200, math.radians(89)
+om = 10 ** -1.5
+o = (math.sin(th), 0.0, math.cos(th))
+im = images("edge/orbit_image.csv")
+near, rows = [], []
+for q in im:
+    ph = om * q["t"]
+    P = (10 * math.cos(ph), 10 * math.sin(ph), 0.0)
+    psi = math.degrees(math.acos(sum(a * b for a, b in zip(P, o)) / 10))
+    if psi < 2 or psi > 178:  # within 2 degrees of the line of sight
+        near.append((q, P))
+    elif q["row"] == 1:
+        rows.append((q, P))
+worst = 0.0
+for q, P in near[::10] + rows[::8]:
+    ei, ej = image(P, th, int(q["order"]), W, H, 40)
+    worst = max(worst, math.hypot(q["i"] - ei, q["j"] - ej))
+print("%d images within 2 degrees of the line of sight; largest offset of %d checked: %.2e px"
+      % (len(near), len(near[::10]) + len(rows[::8]), worst))
+assert len(near) > 20 and worst < 0.05, worst
+# the point straight behind the hole (phi nearest pi): its direct image above
+# the shadow, on the Einstein ring; the secondary below it
+cy = (H - 1) / 2
+far = {k: min((x for x in near if x[0]["order"] == k and x[1][0] < 0), key=lambda x: abs(x[1][1]))[0]
+       for k in (0, 1)}
+print("straight behind: direct image %.2f M above the centre, secondary %.2f M below"
+      % ((cy - far[0]["j"]) * 40 / W, (far[1]["j"] - cy) * 40 / W))
+assert (cy - far[0]["j"]) * 40 / W > BC and (far[1]["j"] - cy) * 40 / W > BC
+PY
+then ok "89 degrees: the Einstein-ring images of the far side above the hole"
+else bad "89 degrees" "rc $RC"; fi
 
 # --- a sphere in front of the near side hides it ------------------------------------
 # the near point (10, 0, 0) seen along the line of sight (sin 80, 0, cos 80):
