@@ -990,6 +990,119 @@ static void test_plunge_inner(void **state)
     assert_true(worst < 1e-8);
 }
 
+/* ---- 10. the other exterior's sky ----------------------------------------- */
+
+/* skymap.other_side (ray.h's mirror): a Schwarzschild free-faller at r = 1
+ * (and Reissner-Nordstrom Q = 0.8 from inside r-, r = 0.36, whose view has
+ * no other side), 181 x 3 fisheye of 360 deg, our sky a one-texel green
+ * image, the other side's a one-texel blue one. Every pixel that ends as sky,
+ * disc or horizon without the second image ends the same with it, bit for
+ * bit; every `other side` pixel ends as `other side` with the other sky's
+ * blue where b = r sin(psi)/|E| < 3 sqrt(3) (E = 1 + cos(psi) sqrt(2M/r) < 0:
+ * the mirror of our sky's edge) and the horizon colour beyond, its frequency
+ * ratio 1/|E| to 1e-9 on the blue ones. And one equatorial ray (psi = 150 deg
+ * from outward, E < 0) traced with its path: the path's phi (in the other
+ * exterior's mirror coordinates) against -int L dr / sqrt(E^2 r^4 - Delta
+ * L^2) from r0 out to 20 M (rn_phi with -L), to 1e-8 rad. */
+static void test_other_side_sky(void **state)
+{
+    static const uint8_t tex[6] = {0, 255, 0, 0, 0, 255};
+    const double holes[2][2] = {{0.0, 1.0}, {0.8, 0.36}};
+    int hi;
+    (void)state;
+    for (hi = 0; hi < 2; hi++) {
+        cr_frame f0, f1;
+        const int w = 181;
+        double q = holes[hi][0], r0 = holes[hi][1], vr = sqrt(2.0 / r0 - q * q / (r0 * r0));
+        double worst = 0.0;
+        int x, same = 0, other = 0, blue = 0, bad = 0;
+        fall_frame(&f0, 0.0, q, r0, 90.0 * DEG, w, 3, 1e-10);
+        f0.sky.rgb = tex;
+        f0.sky.width = f0.sky.height = 1;
+        cr_frame_prepare(&f0);
+        f1 = f0;
+        f1.sky.other_width = f1.sky.other_height = 1;
+        for (x = 0; x < w; x++) {
+            cr_pixel a = cr_trace_point(&f0, x, 1.0), b = cr_trace_point(&f1, x, 1.0);
+            double al = (2.0 * (x + 0.5) / w - 1.0) * CR_PI, psi = CR_PI - fabs(al);
+            double E = 1.0 + cos(psi) * vr, bb = r0 * sin(psi) / fabs(E);
+            if (a.outcome != CR_OUT_OTHER_SIDE) {
+                same += a.outcome == b.outcome && a.color.r == b.color.r &&
+                        a.color.g == b.color.g && a.color.b == b.color.b &&
+                        a.redshift == b.redshift && a.hit_r == b.hit_r;
+                bad += !(a.outcome == b.outcome && a.redshift == b.redshift);
+                continue;
+            }
+            other++;
+            assert_int_equal(b.outcome, CR_OUT_OTHER_SIDE);
+            assert_true(E < 0.0);
+            if (fabs(bb - sqrt(27.0)) < 1e-3)
+                continue; /* the edge */
+            if (bb < sqrt(27.0)) {
+                assert_true(b.color.b == 255 && b.color.g == 0);
+                worst = fmax(worst, fabs(b.redshift - 1.0 / fabs(E)) * fabs(E));
+                blue++;
+            } else
+                assert_true(b.color.r == f1.horizon_color.r && b.color.g == f1.horizon_color.g &&
+                            b.color.b == f1.horizon_color.b && b.redshift == 0.0);
+        }
+        printf("Q = %g, r = %g: %d pixels unchanged by skymap.other_side, %d other side (%d "
+               "on its sky), worst relative error of g = 1/|E| %.2e\n",
+               q, r0, same, other, blue, worst);
+        assert_int_equal(bad, 0);
+        assert_int_equal(same + other, w);
+        if (hi == 0)
+            assert_true(blue > 10 && other > blue);
+        else
+            assert_int_equal(other, 0);
+        assert_true(worst < 1e-9);
+    }
+    {
+        cr_frame f;
+        cr_path path;
+        static double pts[4000 * CR_PN];
+        const double r0 = 1.0, psi = 150.0 * DEG;
+        double n[3], E, L, worst = 0.0;
+        cr_geo g;
+        double yb[CR_NY];
+        cr_ray ray;
+        cr_pixel px;
+        int i, checked = 0;
+        fall_frame(&f, 0.0, 0.0, r0, 90.0 * DEG, 101, 101, 1e-11);
+        f.observer.projection = CR_PROJ_RECTILINEAR;
+        f.sky.rgb = tex;
+        f.sky.width = f.sky.height = 1;
+        f.sky.other_width = f.sky.other_height = 1;
+        cr_frame_prepare(&f);
+        n[0] = cos(psi);
+        n[1] = 0.0;
+        n[2] = sin(psi);
+        cr_camera_ray(&f, n, &g, yb);
+        cr_ray_from_bl(&f, &g, yb, &ray);
+        assert_true(ray.mirror);
+        path.pts = pts;
+        path.cap = 4000;
+        path.sub = 8;
+        ray.path = &path;
+        px = cr_trace_loop(&f, &ray);
+        assert_int_equal(px.outcome, CR_OUT_OTHER_SIDE);
+        E = 1.0 + cos(psi) * sqrt(2.0 / r0);
+        L = sin(psi) * r0;
+        assert_true(E < 0.0 && r0 * sin(psi) / fabs(E) < sqrt(27.0));
+        for (i = 1; i < path.n && i < path.cap; i++) {
+            const double *p = pts + i * CR_PN;
+            if (p[CR_P_R] > 20.0)
+                break;
+            worst = fmax(worst, fabs(p[CR_P_PH] - rn_phi(-E, -L, 0.0, r0, p[CR_P_R])));
+            checked++;
+        }
+        printf("a ray to the other exterior's sky: %d path points, worst |dphi| %.2e rad\n",
+               checked, worst);
+        assert_true(checked > 20);
+        assert_true(worst < 1e-8);
+    }
+}
+
 /* ---- bad input ----------------------------------------------------------- */
 
 static void expect_refused(const char *text, const char *n1, const char *n2)
@@ -1073,7 +1186,8 @@ int main(void)
         cmocka_unit_test(test_continuity),          cmocka_unit_test(test_inside_sky_shift),
         cmocka_unit_test(test_plunge_worldline),    cmocka_unit_test(test_null_across_inner),
         cmocka_unit_test(test_rn_ray_inner),        cmocka_unit_test(test_singularity_outcome),
-        cmocka_unit_test(test_plunge_inner),        cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_plunge_inner),        cmocka_unit_test(test_other_side_sky),
+        cmocka_unit_test(test_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

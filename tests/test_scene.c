@@ -1564,7 +1564,8 @@ static void test_errors_values(void **state)
         {BASE "skymap:\n  image: sky.png\n  boundary: 20 deg\n",
          "scene.yml:12:13: skymap.boundary: ", "without a unit"},
         {BASE "skymap:\n  image: sky.png\n  boundary: 20\n  size: 3\n",
-         "scene.yml:13:3: unknown key 'size' in skymap", "(expected one of: image, boundary)"},
+         "scene.yml:13:3: unknown key 'size' in skymap",
+         "(expected one of: image, boundary, other_side)"},
         /* spheres */
         {BASE "sphere:\n  color: [1, 2, 3]\n  resolution: [4, 8]\n  r: 10\n  theta: 90\n"
               "  phi: 0\n",

@@ -240,7 +240,8 @@ static int cr_check_memory(const cr_run *run, int n_workers, cr_err *err)
     if (cr_has_type(run, 'f'))
         need += n_workers * cr_fits_memory((int)run->cli.width, (int)run->cli.height);
     if (run->scene.sky_rgb)
-        need += 3.0 * (double)run->scene.sky_width * (double)run->scene.sky_height;
+        need += 3.0 * ((double)run->scene.sky_width * (double)run->scene.sky_height +
+                       (double)run->scene.sky_other_width * (double)run->scene.sky_other_height);
     need += (double)(n_workers * (run->use_cuda ? 1 : run->threads) + n_workers + 1) *
             cr_mem_thread_stack();
     if (cr_cpu_memory_check(need, &mem))

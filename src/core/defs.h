@@ -175,10 +175,15 @@ typedef struct cr_sphere {
 
 /* An equirectangular sky texture, rgb[3 * (y * width + x)], row y = 0 at the
  * sky's theta = 0 (6.10.1). The pointer is host or device memory, matching
- * the backend that traces the frame. */
+ * the backend that traces the frame. other_width x other_height (0 x 0:
+ * none) is the sky of the other exterior of the eternal hole
+ * (skymap.other_side; ray.h's mirror), stored in the same block right after
+ * ours, at rgb + 3 width height; 3 (width height + other_width
+ * other_height) bytes in all (cr_sky_bytes, sky.h). */
 typedef struct cr_sky {
     const uint8_t *rgb;
     int width, height;
+    int other_width, other_height;
 } cr_sky;
 
 /* How a ray ended. Values are stable: they are written to CSV files. */

@@ -66,6 +66,21 @@
  * ray turns, R(0) = -Q^2 K), for a != 0 the ring singularity or the disc
  * r = 0 inside it, through which the ray would go on to r < 0, a region
  * curray does not follow (w = 1/r cannot pass r = 0).
+ *
+ * The other exterior (only with a sky image for it, skymap.other_side:
+ * f->sky.other_width > 0). Between the horizons, (t, phi) -> (-t, -phi) in
+ * BL is an isometry that keeps r and the time orientation and swaps the two
+ * halves of the interior's past boundary; it maps a ray with constants
+ * (E, L, eta) to one with (-E, -L, eta), P -> -P, the state's n_y, dn_y and
+ * BL phi negated (pr -> 2 F(r) - pr in the ingoing chart). A ray with
+ * P(r+) <= 0 is replaced by its mirror image while it is between the
+ * horizons (at its start, or as it leaves r-: cr_ray_mirror), which
+ * leaves through our future horizon's mirror, the other exterior's, in the
+ * ingoing chart as above; it is then a ray of the other exterior written in
+ * its mirror coordinates, where nothing of the scene exists: no events;
+ * escaping it shows the other side's sky in its direction there (sky.h),
+ * falling back to that exterior's past horizon the horizon colour, both
+ * with the outcome CR_OUT_OTHER_SIDE.
  */
 #ifndef CR_CORE_RAY_H
 #define CR_CORE_RAY_H
@@ -116,6 +131,9 @@ typedef struct cr_ray {
      * P(r-) <= 0 (ends as an error), 0 once it is out; sing: it came within
      * CR_R_SING of r = 0 (ends as CR_OUT_SINGULARITY). */
     int inner, sing;
+    /* The ray is the mirror image of one bound for the other exterior
+     * (header comment, cr_ray_mirror); 0 otherwise. */
+    int mirror;
 } cr_ray;
 
 /* The ray is in the ingoing chart (inside r+ + epsilon, from an observer
@@ -129,15 +147,22 @@ CR_HD static inline int cr_ray_ingoing(const cr_ray *ray)
  * inside r+ + epsilon (header comment). */
 CR_HD static inline int cr_ray_events_on(const cr_ray *ray)
 {
-    return !cr_ray_ingoing(ray) || ray->out;
+    return !ray->mirror && (!cr_ray_ingoing(ray) || ray->out);
+}
+
+/* The ray is the mirror image of one bound for the other exterior. */
+CR_HD static inline int cr_ray_mirrored(const cr_ray *ray)
+{
+    return ray->kind == CR_INTEG_MINO && ray->mirror;
 }
 
 /* BL phi minus the state's atan2(n_y, n_x) + pr: -F(r) in the ingoing
- * chart (phi = phi~ - F(r)), else 0. */
+ * chart (phi = phi~ - F(r)), else 0; F(infinity) = 0 (a ray that leaves
+ * r+ + epsilon for infinity in one step changes to BL at w = 0). */
 CR_HD static inline double cr_ray_phi_shift(const cr_ray *ray, double r)
 {
     double F = 0.0;
-    if (cr_ray_ingoing(ray))
+    if (cr_ray_ingoing(ray) && r < INFINITY)
         cr_metric_ingoing_shift(&ray->g.mt, r, &F, 0);
     return -F;
 }
@@ -453,13 +478,33 @@ CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
     ray->path = 0;
     ray->w_exit = 0.0;
     ray->exit_out = ray->exit_step = ray->out = ray->crossed = ray->other = 0;
-    ray->inner = ray->sing = 0;
+    ray->inner = ray->sing = ray->mirror = 0;
     if (fabs(ray->m[CR_M_NZ]) < 1e-15) /* cos(pi/2) rounded: on the disc plane */
         ray->m[CR_M_NZ] = 0.0;
     cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
     ray->h_next = cr_mino_first_step(&ray->c, f->tolerance);
     ray->t_quad = 0;
     cr_ray_momentum(ray, ray->m, ray->p_obs);
+}
+
+/* Replace a ray between the horizons (in the ingoing chart, r- < r < r+)
+ * that is bound for the other side by its mirror image (header comment),
+ * bound for the mirror of our future horizon: constants (-E, -L, eta), n_y,
+ * dn_y negated, pr = 2 F(r) - pr. */
+CR_HD static inline void cr_ray_mirror(const cr_frame *f, cr_ray *ray)
+{
+    double F;
+    cr_metric_ingoing_shift(&f->metric, 1.0 / ray->m[CR_M_W], &F, 0);
+    cr_mino_init(&ray->c, &f->metric, -ray->c.E, -ray->c.L, ray->c.eta, f->w_stop);
+    ray->c.chart = CR_CHART_INGOING;
+    ray->m[CR_M_NY] = -ray->m[CR_M_NY];
+    ray->m[CR_M_DNY] = -ray->m[CR_M_DNY];
+    ray->m[CR_M_PR] = 2.0 * F - ray->m[CR_M_PR];
+    cr_mino_t_start(&ray->c, ray->m);
+    cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
+    ray->mirror = 1;
+    ray->exit_out = 1;
+    ray->w_exit = f->w_stop;
 }
 
 /* The ray of the frame's integrator from the BL state y and constants g made
@@ -472,7 +517,7 @@ CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, cons
     ray->g = *g;
     ray->w_exit = 0.0;
     ray->exit_out = ray->exit_step = ray->out = ray->crossed = ray->other = 0;
-    ray->inner = ray->sing = 0;
+    ray->inner = ray->sing = ray->mirror = 0;
     for (i = 0; i < CR_NY; i++)
         ray->y[i] = y[i];
     if (f->integrator == CR_INTEG_MINO) {
@@ -490,7 +535,8 @@ CR_HD static inline void cr_ray_from_bl(const cr_frame *f, const cr_geo *g, cons
             if (f->obs_inner) {
                 double rm = cr_metric_r_minus(&f->metric);
                 ray->inner = g->E * (rm * rm + g->mt.a * g->mt.a) + g->mt.a * g->L > 0.0 ? 1 : -1;
-            }
+            } else if (!ray->exit_out && f->sky.other_width > 0)
+                cr_ray_mirror(f, ray);
             return;
         }
         cr_ray_mino_start(f, ray);
@@ -539,12 +585,16 @@ CR_HD static inline int cr_ray_singular(const cr_ray *ray)
 }
 
 /* After a move of a ray from inside r- (cr_ray_commit): whether it is still
- * inside r-, and whether it came within CR_R_SING of r = 0. */
+ * inside r-, and whether it came within CR_R_SING of r = 0; one that has
+ * left r- bound for the other side is mirrored where the frame has a sky for
+ * it (cr_ray_mirror). */
 CR_HD static inline void cr_ray_inner_update(const cr_frame *f, cr_ray *ray)
 {
     if (ray->inner > 0) {
         ray->sing = ray->m[CR_M_W] >= f->w_sing;
         ray->inner = ray->m[CR_M_W] >= f->w_minus;
+        if (!ray->inner && !ray->exit_out && f->sky.other_width > 0)
+            cr_ray_mirror(f, ray); /* now between the horizons */
     }
 }
 
@@ -692,7 +742,11 @@ CR_HD static inline void cr_ray_commit(const cr_frame *f, cr_ray *ray, double *t
             ray->exit_step = 0;
             ray->inner = 0; /* w_exit < w_minus */
             if (!ray->exit_out) {
-                ray->other = 1;
+                /* from inside r- in one step: mirrored here if it can be */
+                if (f->sky.other_width > 0)
+                    cr_ray_mirror(f, ray);
+                else
+                    ray->other = 1;
                 return;
             }
             ray->out = 1;

@@ -44,17 +44,44 @@ CR_HD static inline cr_rgb cr_sky_sample(const cr_sky *sky, double th, double ph
     return cr_rgb_make((int)(c[0] + 0.5), (int)(c[1] + 0.5), (int)(c[2] + 0.5));
 }
 
+/* Bytes of the sky block (defs.h's cr_sky): ours and the other side's. */
+CR_HD static inline size_t cr_sky_bytes(const cr_sky *sky)
+{
+    return (size_t)3 * ((size_t)sky->width * (size_t)sky->height +
+                        (size_t)sky->other_width * (size_t)sky->other_height);
+}
+
+/* The other exterior's sky (other_width > 0) as a cr_sky of its own. */
+CR_HD static inline cr_sky cr_sky_other(const cr_sky *sky)
+{
+    cr_sky o;
+    o.rgb = sky->rgb + (size_t)3 * (size_t)sky->width * (size_t)sky->height;
+    o.width = sky->other_width;
+    o.height = sky->other_height;
+    o.other_width = o.other_height = 0;
+    return o;
+}
+
 /* Shade a ray that escapes, at its current state (after cr_ray_begin):
  * outcome sky, the texture in its sky direction (cr_ray_sky_direction) or
  * the plain sky colour, and the frequency ratio of a static source at
  * infinity, u_em = (1, 0, 0, 0) (for the static observer omega_r/omega_s =
- * 1/sqrt(-g_tt)|obs). */
+ * 1/sqrt(-g_tt)|obs). A mirrored ray (ray.h: bound for the other exterior)
+ * escapes to the other exterior's sky instead: outcome other side, the
+ * texture of skymap.other_side in its direction there, the same frequency
+ * ratio (a static source at that exterior's infinity). */
 CR_HD static inline void cr_sky_shade(const cr_frame *f, const cr_ray *ray, cr_pixel *px)
 {
     const double *y = cr_ray_y0(ray);
     double p[4], u_inf[4] = {1.0, 0.0, 0.0, 0.0};
     px->outcome = CR_OUT_SKY;
-    if (f->sky.rgb) {
+    if (cr_ray_mirrored(ray)) {
+        double sth, sph;
+        cr_sky other = cr_sky_other(&f->sky);
+        cr_ray_sky_direction(f, ray, y, &sth, &sph);
+        px->outcome = CR_OUT_OTHER_SIDE;
+        px->color = cr_sky_sample(&other, sth, sph);
+    } else if (f->sky.rgb) {
         double sth, sph;
         cr_ray_sky_direction(f, ray, y, &sth, &sph);
         px->color = cr_sky_sample(&f->sky, sth, sph);

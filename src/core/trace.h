@@ -158,6 +158,8 @@ CR_HD static inline int cr_trace_ends(const cr_frame *f, cr_ray *ray, cr_pixel *
 {
     if (cr_ray_at_horizon(f, ray)) {
         cr_trace_horizon(f, px);
+        if (cr_ray_mirrored(ray)) /* the other exterior's past horizon */
+            px->outcome = CR_OUT_OTHER_SIDE;
         return 1;
     }
     if (cr_ray_other_side(ray)) {

@@ -123,8 +123,11 @@ typedef struct cr_scene {
     cr_anim sky_boundary; /* R of 6.10, > 0, when sky_at_infinity == 0 */
     int sky_at_infinity;  /* boundary omitted or inf: the sky at infinity (frame
                              sky_boundary = 0: the ray's asymptotic direction) */
-    uint8_t *sky_rgb;     /* loaded pixels, width*height*3, row 0 = theta 0 */
+    uint8_t *sky_rgb;     /* loaded pixels, width*height*3, row 0 = theta 0; with
+                             skymap.other_side that image's pixels follow */
     int sky_width, sky_height;
+    char *sky_other_image; /* skymap.other_side, resolved as sky_image; NULL: none */
+    int sky_other_width, sky_other_height; /* 0 without it */
 
     cr_scene_sphere *spheres; /* in file order */
     int n_spheres;

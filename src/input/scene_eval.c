@@ -771,6 +771,8 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
             return frame_fail(err, s, k, n, "skymap.boundary = %g must be positive",
                               f->sky_boundary);
         f->sky.rgb = s->sky_rgb;
+        f->sky.other_width = s->sky_other_width;
+        f->sky.other_height = s->sky_other_height;
         f->sky.width = s->sky_width;
         f->sky.height = s->sky_height;
     }

@@ -810,14 +810,16 @@ static char *join_path(const char *dir, size_t dir_len, const char *name)
 static int parse_skymap(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *base,
                         cr_scene *s, cr_err *err)
 {
-    enum { IMAGE, BOUNDARY, N };
-    cr_yaml_field f[N] = {REQ("image"), OPT("boundary")};
-    const char *p = "skymap", *image;
+    enum { IMAGE, BOUNDARY, OTHER, N };
+    cr_yaml_field f[N] = {REQ("image"), OPT("boundary"), OPT("other_side")};
+    const char *p = "skymap", *image, *other = NULL;
     cr_err perr;
     int inf;
 
     if (cr_yaml_fields(y, map, p, key, f, N, err) ||
         cr_yaml_string(y, f[IMAGE].value, "skymap.image", &image, err) ||
+        (f[OTHER].value &&
+         cr_yaml_string(y, f[OTHER].value, "skymap.other_side", &other, err)) ||
         get_inf(y, f[BOUNDARY].value, "skymap.boundary", "the sky at infinity", &inf, err))
         return -1;
     /* omitted or inf: the sky at infinity */
@@ -837,6 +839,30 @@ static int parse_skymap(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const ch
                             perr.msg[0] ? perr.msg : "cannot read the image");
     }
     s->has_sky = 1;
+    if (other) {
+        /* the other exterior's sky, stored right after ours (cr_sky, defs.h) */
+        uint8_t *orgb = NULL, *both;
+        size_t ours = (size_t)3 * (size_t)s->sky_width * (size_t)s->sky_height, theirs;
+        s->sky_other_image = join_path(other[0] == '/' ? "" : base,
+                                       other[0] == '/' ? 0 : strlen(base), other);
+        if (!s->sky_other_image)
+            return cr_yaml_fail(y, f[OTHER].value, "skymap.other_side", err, "out of memory");
+        perr.msg[0] = '\0';
+        if (cr_png_read(s->sky_other_image, SKY_MAX_PIXELS, &orgb, &s->sky_other_width,
+                        &s->sky_other_height, &perr))
+            return cr_yaml_fail(y, f[OTHER].value, "skymap.other_side", err, "%s",
+                                perr.msg[0] ? perr.msg : "cannot read the image");
+        theirs = (size_t)3 * (size_t)s->sky_other_width * (size_t)s->sky_other_height;
+        both = realloc(s->sky_rgb, ours + theirs);
+        if (!both) {
+            free(orgb);
+            s->sky_other_width = s->sky_other_height = 0;
+            return cr_yaml_fail(y, f[OTHER].value, "skymap.other_side", err, "out of memory");
+        }
+        memcpy(both + ours, orgb, theirs);
+        free(orgb);
+        s->sky_rgb = both;
+    }
     return 0;
 }
 
@@ -1189,6 +1215,7 @@ void cr_scene_free(cr_scene *s)
         return;
     free(s->path);
     free(s->sky_image);
+    free(s->sky_other_image);
     free(s->sky_rgb);
     free(s->spheres);
     memset(s, 0, sizeof *s);

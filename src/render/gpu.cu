@@ -569,7 +569,7 @@ static int cr_gpu_session_sky(cr_gpu_session *s, const cr_frame *f, cr_err *err)
     if (!f->sky.rgb || (f->sky.rgb == s->sky_host && f->sky.width == s->sky_w &&
                         f->sky.height == s->sky_h))
         return 0;
-    bytes = (size_t)3 * (size_t)f->sky.width * (size_t)f->sky.height;
+    bytes = cr_sky_bytes(&f->sky); /* ours and the other exterior's */
     /* frames in flight may still read the texture held now */
     CR_CUDA_CHECK(cudaStreamSynchronize(s->stream));
     s->sky_host = NULL;
