@@ -36,6 +36,10 @@
 #   c. the CLI through the per-run session: a 3-frame render of scenes/demo.yml
 #      on the CPU and on the GPU, with mino and with rk4, compared pixel by
 #      pixel (outcome and colour, d_<k>.csv)                       ~3 s
+#      and the plunges scenes/plunge-reissner-nordstrom.yml (through r+ and
+#      r-) and plunge-kerr.yml (through r+), 240 frames at 64x36 each, every
+#      frame compared the same way (rays crossing horizons, the ingoing
+#      chart, other side and singularity outcomes on the GPU)   not yet timed
 #   d. the split of a frame's GPU time into tracing and pixel copy (-v) at
 #      1024 and 4096                                               ~5 s
 #   e. Mino vs rk4 on the GPU (kerr-disc, and kerrz-disc for mino), and a
@@ -144,6 +148,27 @@ cli_compare() { # the CLI on CPU and GPU, 3 frames, each integrator
         done
         grep -E "^  wall time" "$work/cli-$integ-cuda/info.txt" | head -3
     done
+    plunge_compare
+}
+
+plunge_compare() { # the plunges through r+ (Kerr) and r+ and r- (RN) on CPU and GPU, every frame
+    local sc be k d tot worst wk
+    for sc in plunge-reissner-nordstrom plunge-kerr; do
+        for be in cpu cuda; do
+            "$bdir/default/curray" -s "$root/scenes/$sc.yml" -o "$work/$sc-$be" -x 64 -y 36 \
+                -f 240 -t di -a true -q true --backend "$be" || return 1
+        done
+        tot=0 worst=0 wk=0
+        for k in $(seq 0 239); do
+            d=$(csv_diff "$work/$sc-cpu/d_$k.csv" "$work/$sc-cuda/d_$k.csv" | cut -d' ' -f1)
+            case $d in '' | *[!0-9]*) echo "$sc frame $k: no d_$k.csv to compare"; return 1 ;; esac
+            tot=$((tot + d))
+            [ "$d" -gt "$worst" ] && worst=$d wk=$k
+        done
+        echo "$sc (240 frames at 64x36, CPU vs GPU): $tot pixels differ in outcome or colour" \
+            "in all, at most $worst in one frame (frame $wk)"
+        rm -f "$work/$sc"-*/d_*.csv
+    done
 }
 
 gpu_split() { # frame time split into tracing and the pixel copy to the host
@@ -182,7 +207,7 @@ cmd_run() {
     work=$(mktemp -d /tmp/gpu-check.XXXXXX)
     deadline=$(($(date +%s) + ${GPU_CHECK_BUDGET:-380}))
     export root bdir work
-    export -f csv_diff cli_compare cli_overlap bench_run gpu_split
+    export -f csv_diff cli_compare plunge_compare cli_overlap bench_run gpu_split
     shopt -s nullglob
     export LD_LIBRARY_PATH=$bdir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
     # the build's CTest files and test_backends (CR_SOURCE_DIR) name the folder
@@ -205,7 +230,7 @@ cmd_run() {
     done
     stage ctest 150 ctest --test-dir "$bdir/default" -L gpu --output-on-failure -V
     cp "$work/ctest.log" "$OUT/ctest.log" 2>/dev/null
-    stage cli-compare 60 cli_compare
+    stage cli-compare 120 cli_compare
     # quick: only the checks above (registers, test_backends, the CLI on CPU
     # and GPU), about 15 s; the benchmarks below are skipped
     [ -n "${quick:-}" ] || cmd_bench
