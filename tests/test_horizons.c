@@ -994,7 +994,8 @@ static void test_plunge_inner(void **state)
 
 /* skymap.other_side (ray.h's mirror): a Schwarzschild free-faller at r = 1
  * (and Reissner-Nordstrom Q = 0.8 from inside r-, r = 0.36, whose view has
- * no other side), 181 x 3 fisheye of 360 deg, our sky a one-texel green
+ * no other side) at theta = 70 deg with a disc from 3 to 15 M that the
+ * centre row's rays cross, 181 x 3 fisheye of 360 deg, our sky a one-texel green
  * image, the other side's a one-texel blue one. Every pixel that ends as sky,
  * disc or horizon without the second image ends the same with it, bit for
  * bit; every `other side` pixel ends as `other side` with the other sky's
@@ -1015,10 +1016,17 @@ static void test_other_side_sky(void **state)
         const int w = 181;
         double q = holes[hi][0], r0 = holes[hi][1], vr = sqrt(2.0 / r0 - q * q / (r0 * r0));
         double worst = 0.0;
-        int x, same = 0, other = 0, blue = 0, bad = 0;
-        fall_frame(&f0, 0.0, q, r0, 90.0 * DEG, w, 3, 1e-10);
+        int x, same = 0, other = 0, blue = 0, bad = 0, disc = 0;
+        fall_frame(&f0, 0.0, q, r0, 70.0 * DEG, w, 3, 1e-10);
         f0.sky.rgb = tex;
         f0.sky.width = f0.sky.height = 1;
+        /* a disc that rays of the centre row cross (off the equator): none
+         * of it is in the other exterior */
+        f0.disc.enabled = 1;
+        f0.disc.r_in = f0.disc.r_hit_in = 3.0;
+        f0.disc.r_out = 15.0;
+        f0.disc.n_radial = 2;
+        f0.disc.n_sectors = 8;
         cr_frame_prepare(&f0);
         f1 = f0;
         f1.sky.other_width = f1.sky.other_height = 1;
@@ -1027,6 +1035,7 @@ static void test_other_side_sky(void **state)
             double al = (2.0 * (x + 0.5) / w - 1.0) * CR_PI, psi = CR_PI - fabs(al);
             double E = 1.0 + cos(psi) * vr, bb = r0 * sin(psi) / fabs(E);
             if (a.outcome != CR_OUT_OTHER_SIDE) {
+                disc += a.outcome == CR_OUT_DISC;
                 same += a.outcome == b.outcome && a.color.r == b.color.r &&
                         a.color.g == b.color.g && a.color.b == b.color.b &&
                         a.redshift == b.redshift && a.hit_r == b.hit_r;
@@ -1046,11 +1055,12 @@ static void test_other_side_sky(void **state)
                 assert_true(b.color.r == f1.horizon_color.r && b.color.g == f1.horizon_color.g &&
                             b.color.b == f1.horizon_color.b && b.redshift == 0.0);
         }
-        printf("Q = %g, r = %g: %d pixels unchanged by skymap.other_side, %d other side (%d "
-               "on its sky), worst relative error of g = 1/|E| %.2e\n",
-               q, r0, same, other, blue, worst);
+        printf("Q = %g, r = %g: %d pixels unchanged by skymap.other_side (%d on the disc), %d "
+               "other side (%d on its sky), worst relative error of g = 1/|E| %.2e\n",
+               q, r0, same, disc, other, blue, worst);
         assert_int_equal(bad, 0);
         assert_int_equal(same + other, w);
+        assert_true(disc > 0);
         if (hi == 0)
             assert_true(blue > 10 && other > blue);
         else
