@@ -452,12 +452,14 @@ CR_HD static inline void cr_lens_frame(const cr_frame *f, double r_reach, int ob
         out->n_spheres = 0;
         out->spheres = 0;
     }
-    out->sky.rgb = 0; /* only the outcome sky matters, not its colour */
+    /* only the outcome sky matters, not its colour or direction: the rays end
+       beyond rm moving out (also with a sky image at infinity, w_sky = 0) */
+    out->sky.rgb = 0;
     if (out->tolerance > tol)
         out->tolerance = tol;
     if (!(out->r_max >= rm))
         out->r_max = rm;
-    if (out->w_sky > 1.0 / rm)
+    if (!(out->w_sky > 0.0 && out->w_sky <= 1.0 / rm))
         out->w_sky = 1.0 / rm;
     if (out->w_obj > 1.0 / rm)
         out->w_obj = 1.0 / rm; /* the delay is wanted out to P */
