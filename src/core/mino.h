@@ -97,8 +97,9 @@ enum { CR_CHART_BL = 0, CR_CHART_INGOING = 1 };
 /* The lane-generic part (mino_lane.h) for one ray, scalar: cr_mino (the
  * constants of one ray and the coefficients derived from them), cr_mino_W,
  * cr_mino_Th, cr_mino_ingoing_q, cr_mino_rhs, cr_mino_monitor, cr_dp5 (the
- * stages of a step), cr_dp5_try, cr_dp5_factor, cr_dp5_control and the
- * predicates of the ray's ends and counts. */
+ * stages of a step), cr_dp5_try, cr_dp5_factor, cr_dp5_control,
+ * cr_mino_project (an accepted step's dw/dtau back on its first integral)
+ * and the predicates of the ray's ends and counts. */
 #define CR_L double
 #define CR_LM int
 #define CR_LN(x) x

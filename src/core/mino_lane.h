@@ -282,6 +282,45 @@ CR_LHD static inline CR_LM CR_LN(cr_mino_t_unresolved)(const CR_LN(cr_dp5) *st, 
     return (CR_LABS(e) <= tol * (1.0 + 0.5 * (CR_LABS(y0[CR_M_T]) + CR_LABS(y1[CR_M_T])))) == 0;
 }
 
+/* After an accepted step to y1 (lanes where ok is set) with its stages st:
+ * dw/dtau put back on its first integral, sign(dw/dtau) sqrt(W(w)) with W
+ * from the ray's constants, in the BL chart where the root is well
+ * conditioned: |dw/dtau| >= |E|/10, or |dw/dtau| >= |E|/100 where also
+ * |W'(w)| w <= 4 |E| |dw/dtau| (a relative error in w moves the root by at
+ * most about twice as much, relative to E, as it is; W'/2 is k[6]'s dw/dtau
+ * rate): near a simple radial turning point the state is left as it is, in
+ * the slow passage by the photon sphere (W nearly a double root there) it
+ * is projected down to |E|/100. And the rates of the last stage that
+ * depend on dw/dtau are made those of the new state: k[6] is dw/dtau in its
+ * w component and dT/dtau in its T component (nothing else of f(y1)
+ * depends on it in this chart), so that the dense output and the next step
+ * (first same as last) continue from it.
+ * Why: far out W ~ E^2 and the Carter constant of the integrated state is
+ * ((dw/dtau)^2 - E^2) / w^2 + ..., so an error tol E in dw/dtau becomes one
+ * of about 2 tol / w^2 in it, which the orbit's instability at the photon
+ * sphere then amplifies (a relative error e in the constant moves a ray
+ * that winds there by about e / (b - b_c) in angle). On the first integral
+ * the ray keeps its constants (BENCHMARKS.md: the hit radius of rays near
+ * the critical impact parameter from 1e-2 to 2e-7 relative at the default
+ * tolerance, the same steps).
+ * The ingoing chart (observers inside the horizon) is left as it is: its
+ * azimuth's rate depends on dw/dtau too; its rays change to BL beyond
+ * 2 (r+ + epsilon), and from there on the projection applies. */
+CR_LHD static inline void CR_LN(cr_mino_project)(const CR_LN(cr_mino) *c, CR_LM ok, CR_L *y1,
+                                                 CR_LN(cr_dp5) *st)
+{
+    CR_L dw = y1[CR_M_DW], W = CR_LN(cr_mino_W)(c, y1[CR_M_W]);
+    CR_L root = CR_LSQRT(CR_LSEL(W > 0.0, W, CR_LBC(0.0)));
+    CR_L adw = CR_LABS(dw), aE = CR_LABS(c->E);
+    CR_L wp = 2.0 * CR_LABS(st->k[6][CR_M_DW] * y1[CR_M_W]); /* |W'(w)| w */
+    CR_LM on = ok & (c->chart == CR_CHART_BL) & (W > 0.0) &
+               ((adw >= 0.1 * aE) | ((adw >= 0.01 * aE) & (wp <= 4.0 * adw * aE)));
+    y1[CR_M_DW] = CR_LSEL(on, CR_LSEL(dw < 0.0, 0.0 - root, root), dw);
+    st->k[6][CR_M_W] = y1[CR_M_DW];
+    if (CR_LANY(on)) /* vector lanes evaluate both sides of a select */
+        st->k[6][CR_M_T] = CR_LSEL(on, CR_LN(cr_mino_dT)(c, y1), st->k[6][CR_M_T]);
+}
+
 /* Whether state y is beyond the sky radius w_sky moving outward (the Mino
  * form of cr_ray_escaping). */
 CR_LHD static inline CR_LM CR_LN(cr_mino_escaping)(const CR_L *y, double w_sky)

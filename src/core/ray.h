@@ -670,7 +670,10 @@ CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
             double err = cr_dp5_try(&ray->c, f->tolerance, h, ray->m, &ray->st, ray->m1);
             double h_next = ray->h_next;
             if (cr_dp5_control(err, tries > 0, &h, &h_next)) {
-                double v0 = ray->m[CR_M_W] - ray->w_exit, v1 = ray->m1[CR_M_W] - ray->w_exit;
+                double v0, v1;
+                cr_mino_project(&ray->c, 1, ray->m1, &ray->st); /* on its first integral */
+                v0 = ray->m[CR_M_W] - ray->w_exit;
+                v1 = ray->m1[CR_M_W] - ray->w_exit;
                 ray->hm = h;
                 if (cr_ray_ingoing(ray) && !ray->out && !cut && v1 <= 0.0 && v0 > 0.0) {
                     /* leaves the chart inside this step: end the step there */

@@ -198,6 +198,7 @@ void PK_FN(cr_packet_trace)(const cr_frame *f, const cr_pixel_feed *feed)
         retried = p.tries > 0.0;
         err = cr_dp5_try_v(&p.c, f->tolerance, p.h, p.m, &p.st, p.m1);
         ok = cr_dp5_control_v(err, retried, &p.h, &p.h_next);
+        cr_mino_project_v(&p.c, ok, p.m1, &p.st);
         cross = cr_mino_may_cross_equator_v(p.m, p.m1);
         cut = cr_mino_cuts_sky_v(p.m, p.m1, f->w_sky);
         turned = p.turns + cr_mino_turns_v(p.m, p.m1);
