@@ -25,8 +25,10 @@
  * relative; the same steps; the error monitor (err_mean, err_std) and the
  * emission delay bit for bit (the lanes keep the scalar bookkeeping's
  * order of operations). The counts of pixels equal bit for bit are
- * printed. A frame with 3 x 3 samples (the packet path hands it to the
- * scalar tracer) and frames with cancelled renders are not covered here.
+ * printed. The step and turn limits: demo.yml with max_steps 6 and with
+ * max_turns 0.05, both paths the same, limit pixels required. A frame
+ * with 3 x 3 samples (the packet path hands it to the scalar tracer) and
+ * frames with cancelled renders are not covered here.
  *
  * The dispatch: cr_cpu_simd_pick for every combination of cpu.simd and
  * CPU features (scalar without AVX2, with cpu.simd off, or in a build
@@ -148,8 +150,11 @@ static double pk_rel(double a, double b)
     return m > 0.0 ? d / m : d;
 }
 
-/* One scene's comparison; returns the number of failures. */
-static int pk_compare_scene(const char *name, int path)
+/* One scene's comparison; returns the number of failures. max_steps,
+ * max_turns > 0 replace the frame's limits; *n_limit (if not NULL) gets the
+ * number of pixels the scalar path ends as limit. */
+static int pk_compare_limits(const char *name, int path, long max_steps, double max_turns,
+                             long *n_limit)
 {
     enum { W = 96, H = 64 };
     static cr_pixel ref[W * H], got[W * H];
@@ -163,9 +168,15 @@ static int pk_compare_scene(const char *name, int path)
     int k;
     snprintf(full, sizeof full, "scenes/%s", name);
     pk_frame(full, cr_trace_defaults().integrator, W, H, &s, &f, buf);
+    if (max_steps > 0)
+        f.max_steps = max_steps;
+    if (max_turns > 0.0)
+        f.max_turns = max_turns;
     if (cr_cpu_render_rows_path(&f, 0, H, 2, CR_CPU_SIMD_SCALAR, ref, NULL, NULL, NULL, &err) ||
         cr_cpu_render_rows_path(&f, 0, H, 2, path, got, NULL, NULL, NULL, &err))
         fail_msg("%s: %s", name, err.msg);
+    if (n_limit)
+        *n_limit = 0;
     for (k = 0; k < W * H; k++) {
         const cr_pixel *a = &ref[k], *b = &got[k];
         double dg = pk_rel(a->redshift, b->redshift);
@@ -176,6 +187,8 @@ static int pk_compare_scene(const char *name, int path)
         int same_book = memcmp(&a->err_mean, &b->err_mean, sizeof a->err_mean) == 0 &&
                         memcmp(&a->err_std, &b->err_std, sizeof a->err_std) == 0 &&
                         memcmp(&a->delay, &b->delay, sizeof a->delay) == 0;
+        if (n_limit)
+            *n_limit += a->outcome == CR_OUT_LIMIT;
         same_bits += pk_same_pixel(a, b) && a->steps == b->steps && same_book &&
                      memcmp(&a->bolo, &b->bolo, sizeof a->bolo) == 0;
         if (!same_book && bad_book++ < 5)
@@ -218,6 +231,49 @@ static int pk_compare_scene(const char *name, int path)
                   bad_book);
     cr_scene_free(&s);
     return (int)(bad + bad_steps + bad_book);
+}
+
+static int pk_compare_scene(const char *name, int path)
+{
+    return pk_compare_limits(name, path, 0, 0.0, NULL);
+}
+
+/* The packet paths this CPU has (AVX2, AVX-512), as CR_CPU_SIMD_* bits. */
+static int pk_paths(void)
+{
+    int p, bits = 0;
+    for (p = CR_CPU_SIMD_AVX2; p <= CR_CPU_SIMD_AVX512; p++)
+        if (cr_cpu_simd_pick(CR_SIMD_AUTO, 1, p == CR_CPU_SIMD_AVX512) == p &&
+            !(p == CR_CPU_SIMD_AVX512 && cr_cpu_simd_path(CR_SIMD_AUTO) != p) &&
+            !(p == CR_CPU_SIMD_AVX2 && cr_cpu_simd_path(CR_SIMD_AUTO) == CR_CPU_SIMD_SCALAR))
+            bits |= 1 << p;
+    return bits;
+}
+
+/* The step and turn limits on the packet path: demo.yml with max_steps 6
+ * (most rays end as limit by steps) and with max_turns 0.05 (rays near the
+ * hole end as limit by turns), the same pixels as the scalar path; each
+ * frame must have limit pixels, so that the limits are exercised. */
+static void test_packet_limits(void **state)
+{
+    int p, bits = pk_paths(), failures = 0;
+    (void)state;
+    if (!cr_cpu_simd_built() || bits == 0) {
+        print_message("SKIPPED: no packet path on this CPU or build\n");
+        skip();
+    }
+    for (p = CR_CPU_SIMD_AVX2; p <= CR_CPU_SIMD_AVX512; p++) {
+        long n_steps = 0, n_turns = 0;
+        if (!(bits & (1 << p)))
+            continue;
+        failures += pk_compare_limits("demo.yml", p, 6, 0.0, &n_steps);
+        failures += pk_compare_limits("demo.yml", p, 0, 0.05, &n_turns);
+        print_message("%s: %ld limit pixels at max_steps 6, %ld at max_turns 0.05\n",
+                      cr_cpu_simd_name(p), n_steps, n_turns);
+        assert_true(n_steps > 0);
+        assert_true(n_turns > 0);
+    }
+    assert_int_equal(failures, 0);
 }
 
 static void test_packet_matches_scalar(void **state)
@@ -302,6 +358,7 @@ int main(void)
         cmocka_unit_test(test_early_stop_exact),
         cmocka_unit_test(test_dispatch),
         cmocka_unit_test(test_packet_matches_scalar),
+        cmocka_unit_test(test_packet_limits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
