@@ -2,6 +2,7 @@
 #include "orbit_picture.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -209,7 +210,7 @@ static int refine(opic_ctx *c, const cr_opic_point *a, const cr_opic_image *ia,
     cr_opic_point m;
     cr_opic_image im;
     if (hypot(ib->i - ia->i, ib->j - ia->j) <= CR_OPIC_GAP || depth >= CR_OPIC_DEPTH ||
-        c->r->solves >= CR_OPIC_MAX_SOLVES * (c->order + 1))
+        c->r->solves >= CR_OPIC_MAX_SOLVES)
         return 0;
     midpoint(a, b, &m);
     if (!solve_from(c, &m, 0.5 * (ia->i + ib->i), 0.5 * (ia->j + ib->j), &im) &&
@@ -238,7 +239,7 @@ static int reach(opic_ctx *c, const cr_opic_point *a, const cr_opic_image *ia,
     int r;
     if (solve_from(c, b, ia->i, ia->j, ib))
         return refine(c, a, ia, b, ib, depth) ? -1 : 1;
-    if (depth >= CR_OPIC_DEPTH || c->r->solves >= CR_OPIC_MAX_SOLVES * (c->order + 1))
+    if (depth >= CR_OPIC_DEPTH || c->r->solves >= CR_OPIC_MAX_SOLVES)
         return 0;
     midpoint(a, b, &m);
     r = reach(c, a, ia, &m, &im, depth + 1);
@@ -302,13 +303,34 @@ static int trace_order(opic_ctx *c, const cr_opic_point *pts, long n)
     return 0;
 }
 
+/* One order's work in a thread of its own. */
+typedef struct opic_job {
+    opic_ctx c;
+    const cr_opic_point *pts;
+    long n;
+    cr_opic_result r;
+    cr_err err;
+    int rc;
+    pthread_t tid;
+    int started;
+} opic_job;
+
+static void *run_job(void *arg)
+{
+    opic_job *j = (opic_job *)arg;
+    j->rc = trace_order(&j->c, j->pts, j->n);
+    return NULL;
+}
+
 int cr_opic_trace(const cr_frame *f, const cr_opic_point *pts, long n, const cr_orbit_view *v,
                   cr_opic_result *r, cr_err *err)
 {
     cr_frame fg, fo;
+    opic_job job[CR_LENS_MAX_ORDER + 1];
     double reach = 0.0;
-    long k;
-    int order;
+    long k, total = 0;
+    int order, orders = v->orders < CR_LENS_MAX_ORDER + 1 ? v->orders : CR_LENS_MAX_ORDER + 1;
+    int side = f->width > f->height ? f->width : f->height, rc = 0;
     memset(r, 0, sizeof *r);
     for (k = 0; k < n; k++) {
         double d = sqrt(pts[k].x[0] * pts[k].x[0] + pts[k].x[1] * pts[k].x[1] +
@@ -316,25 +338,56 @@ int cr_opic_trace(const cr_frame *f, const cr_opic_point *pts, long n, const cr_
         if (d > reach)
             reach = d;
     }
-    /* tolerance 1e-9: a miss of 1e-6 of the distance well above the error */
+    /* tolerance 1e-9: the rays' error well below the miss tolerance */
     cr_lens_frame(f, reach, 0, 1e-9, &fg);
     cr_lens_frame(f, reach, 1, 1e-9, &fo);
-    for (order = 0; order < v->orders; order++) {
-        opic_ctx c;
-        int side = f->width > f->height ? f->width : f->height;
-        c.fg = &fg;
-        c.fo = &fo;
-        c.order = order;
-        c.max_step = 0.1 * side;
-        c.seed_step = side / 32.0 > 2.0 ? side / 32.0 : 2.0;
-        c.r = r;
-        c.err = err;
-        if (trace_order(&c, pts, n)) {
-            cr_opic_result_free(r);
-            return -1;
-        }
+    /* the orders are independent: one thread each (the same images with
+       any number of cores), the calling thread where none can start */
+    for (order = 0; order < orders; order++) {
+        opic_job *j = &job[order];
+        memset(j, 0, sizeof *j);
+        j->c.fg = &fg;
+        j->c.fo = &fo;
+        j->c.order = order;
+        j->c.max_step = 0.1 * side;
+        j->c.seed_step = side / 32.0 > 2.0 ? side / 32.0 : 2.0;
+        j->c.r = &j->r;
+        j->c.err = &j->err;
+        j->pts = pts;
+        j->n = n;
+        j->started = order > 0 && pthread_create(&j->tid, NULL, run_job, j) == 0;
     }
-    return 0;
+    for (order = 0; order < orders; order++)
+        if (!job[order].started)
+            run_job(&job[order]);
+    for (order = 0; order < orders; order++) {
+        if (job[order].started)
+            pthread_join(job[order].tid, NULL);
+        if (job[order].rc && !rc) {
+            cr_err_set(err, "%s", job[order].err.msg);
+            rc = -1;
+        }
+        total += job[order].r.n;
+    }
+    if (!rc && total > 0) {
+        r->img = malloc((size_t)total * sizeof *r->img);
+        if (!r->img)
+            rc = cr_err_set(err, "out of memory for the images of the orbit (%ld)", total);
+    }
+    for (order = 0; order < orders; order++) {
+        cr_opic_result *q = &job[order].r;
+        if (!rc && q->n > 0) {
+            memcpy(r->img + r->n, q->img, (size_t)q->n * sizeof *q->img);
+            r->n += q->n;
+        }
+        r->solves += q->solves;
+        r->lost += q->lost;
+        cr_opic_result_free(q);
+    }
+    r->cap = r->n;
+    if (rc)
+        cr_opic_result_free(r);
+    return rc;
 }
 
 cr_rgb cr_opic_tau_color(double tau, double tau0, double tau1)

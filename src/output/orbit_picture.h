@@ -37,7 +37,7 @@
  * through a caustic). */
 #define CR_OPIC_JOIN 4.0
 /* Most points of the worldline taken from its rows (a longer worldline is
- * thinned evenly), and most Newton solutions per image order. */
+ * thinned evenly), and most Newton solutions of one image order. */
 #define CR_OPIC_MAX_POINTS 20000
 #define CR_OPIC_MAX_SOLVES 400000L
 
@@ -73,8 +73,9 @@ typedef struct cr_opic_result {
 } cr_opic_result;
 
 /* Find the images of the n points pts (tau increasing) in the prepared
- * frame f (units of M) for the view's orders. Returns 0, or -1 with err
- * set (out of memory). Free r with cr_opic_result_free. */
+ * frame f (units of M) for the view's orders, each order in a thread of its
+ * own (the same images however many run). Returns 0, or -1 with err set
+ * (out of memory). Free r with cr_opic_result_free. */
 int cr_opic_trace(const cr_frame *f, const cr_opic_point *pts, long n, const cr_orbit_view *v,
                   cr_opic_result *r, cr_err *err);
 void cr_opic_result_free(cr_opic_result *r);
