@@ -19,6 +19,7 @@
 #include "core/trace.h"
 #include "exact_orbit.h"
 #include "input/scene.h"
+#include "testfs.h"
 #include "output/spectrum.h"
 
 static void frame_from(const char *text, int samples, int w, int h, cr_frame *f, cr_scene *s)
@@ -242,6 +243,63 @@ static void test_samples_count(void **state)
     cr_scene_free(&s2);
 }
 
+/* s_<k>.csv of a spectrum given by hand, every value against the
+ * definitions worked out here: the line (E0 = 6.4 keV, bins [2, 3, 4, 5, 6]
+ * keV holding photon fluxes 1, 2, 3, 4) has flux = sum / width, g = middle /
+ * E0 and normalised = sum / (total x width / E0), so that sum of normalised
+ * x dg is 1 (normalised 0.64, 1.28, 1.92, 2.56); the continuum (bins
+ * [1, 2, 4, 8] keV holding 1, 1, 2) has normalised = sum / (total x width),
+ * of integral 1 over E (0.25, 0.125, 0.125), e_kev the geometric middle. */
+static void test_csv_values(void **state)
+{
+    double le[] = {2, 3, 4, 5, 6}, ls[] = {1, 2, 3, 4}, ce[] = {1, 2, 4, 8}, cs[] = {1, 1, 2};
+    static const char *const want[] = {
+        "spectrum,bin,e_lo_kev,e_hi_kev,e_kev,g,flux,normalised",
+        "line,0,2,3,2.5,0.390625,1,0.64",
+        "line,1,3,4,3.5,0.546875,2,1.28",
+        "line,2,4,5,4.5,0.703125,3,1.92",
+        "line,3,5,6,5.5,0.859375,4,2.56",
+        "continuum,0,1,2,1.4142135623730951,-1,1,0.25",
+        "continuum,1,2,4,2.8284271247461903,-1,0.5,0.125",
+        "continuum,2,4,8,5.656854249492381,-1,0.5,0.125",
+    };
+    char dir[] = "/tmp/curray-test-spectrum-XXXXXX", path[4096], line[256];
+    cr_spectrum s;
+    cr_err err;
+    FILE *fp;
+    size_t n = 0;
+    double integral = 0.0;
+    (void)state;
+    memset(&s, 0, sizeof s);
+    s.e0 = 6.4;
+    s.n_line = 4;
+    s.n_cont = 3;
+    s.line_edges = le;
+    s.line_sum = ls;
+    s.cont_edges = ce;
+    s.cont_sum = cs;
+    assert_non_null(mkdtemp(dir));
+    assert_int_equal(cr_output_spectrum_csv(dir, 3, &s, &err), 0);
+    snprintf(path, sizeof path, "%s/s_3.csv", dir);
+    fp = fopen(path, "r");
+    assert_non_null(fp);
+    while (fgets(line, sizeof line, fp)) {
+        double lo, hi, mid, g, flux, norm;
+        line[strcspn(line, "\n")] = '\0';
+        assert_true(n < sizeof want / sizeof want[0]);
+        if (strcmp(line, want[n]) != 0)
+            fail_msg("s_3.csv line %zu: '%s', expected '%s'", n + 1, line, want[n]);
+        if (sscanf(line, "line,%*d,%lf,%lf,%lf,%lf,%lf,%lf", &lo, &hi, &mid, &g, &flux, &norm) ==
+            6)
+            integral += norm * (hi - lo) / s.e0;
+        n++;
+    }
+    fclose(fp);
+    assert_int_equal(n, sizeof want / sizeof want[0]);
+    assert_true(fabs(integral - 1.0) < 1e-12);
+    cr_test_rm_rf(dir);
+}
+
 /* Bad spectrum keys: refused with a message naming the key. */
 static void test_bad_spectrum_keys(void **state)
 {
@@ -319,6 +377,7 @@ int main(void)
         cmocka_unit_test(test_line_face_on_schwarzschild),
         cmocka_unit_test(test_flux_conservation),
         cmocka_unit_test(test_samples_count),
+        cmocka_unit_test(test_csv_values),
         cmocka_unit_test(test_bad_spectrum_keys),
     };
     gl_init();
