@@ -2,8 +2,10 @@
 # bench/horizons.sh: the cost per ray of a frame inside the horizon against
 # one outside, same scene and size: scenes/plunge-schwarzschild.yml (a
 # Keplerian disc, the sky grid, 300 deg fisheye) with observer.r fixed at
-# 3 M (outside r+ = 2 M), 1 M and 0.3 M (inside), and scenes/plunge-kerr.yml
-# (a = 0.6, r+ = 1.8 M, r- = 0.2 M) at 3 M and 1 M. Runs are interleaved; per
+# 3 M (outside r+ = 2 M), 1 M and 0.3 M (inside), scenes/plunge-kerr.yml
+# (a = 0.6, r+ = 1.8 M, r- = 0.2 M) at 3 M, 1 M and 0.15 M (inside r-), and
+# scenes/plunge-reissner-nordstrom.yml (Q = 0.8, r+ = 1.6 M, r- = 0.4 M) at
+# 3 M, 1 M and 0.35 M (inside r-). Runs are interleaved; per
 # case it reports the median wall and CPU time, the steps per ray (info.txt)
 # and the CPU time per ray.
 #
@@ -19,7 +21,7 @@ while [ $# -gt 0 ]; do
     --runs) runs=$2; shift 2 ;;
     --size) size=$2; shift 2 ;;
     --threads) threads=$2; shift 2 ;;
-    -h | --help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "horizons.sh: unknown option '$1'" >&2; exit 2 ;;
     esac
 done
@@ -28,7 +30,8 @@ bin=${CURRAY_BIN:-$root/build/curray}
 w=${size%x*} h=${size#*x}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-cases="schwarzschild:3 schwarzschild:1 schwarzschild:0.3 kerr:3 kerr:1"
+cases="schwarzschild:3 schwarzschild:1 schwarzschild:0.3 kerr:3 kerr:1 kerr:0.15
+       reissner-nordstrom:3 reissner-nordstrom:1 reissner-nordstrom:0.35"
 for c in $cases; do
     hole=${c%:*} r=${c#*:}
     sed -e "s|^  r: \[infall, .*\]|  r: $r|" -e "s|image: sky_grid.png|image: $root/scenes/sky_grid.png|" \
@@ -56,9 +59,11 @@ rows = [l.split() for l in open(sys.argv[1])]
 wall = statistics.median(float(x[0]) for x in rows)
 cpu = statistics.median(float(x[1]) + float(x[2]) for x in rows)
 steps, rays = float(rows[0][5]), float(rows[0][6])
-rp = 2.0 if sys.argv[2] == "schwarzschild" else 1.8
+# r+ and r- of each scene's hole (Schwarzschild, Kerr a = 0.6, RN Q = 0.8)
+rp, rm = {"schwarzschild": (2.0, 0.0), "kerr": (1.8, 0.2), "reissner-nordstrom": (1.6, 0.4)}[sys.argv[2]]
 r = float(sys.argv[3])
-print(f"| {sys.argv[2]} | {r:g} | {'yes' if r < rp else 'no'} | {len(rows)} | {wall:.3f} | {cpu:.3f} | "
+where = "inside r-" if r < rm else ("yes" if r < rp else "no")
+print(f"| {sys.argv[2]} | {r:g} | {where} | {len(rows)} | {wall:.3f} | {cpu:.3f} | "
       f"{steps / rays:.1f} | {1e6 * cpu / rays:.2f} |")
 PY
 done

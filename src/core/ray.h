@@ -198,12 +198,14 @@ CR_HD static inline int cr_ray_has_t(const cr_ray *ray)
  * (t = 0 at the observer); Mino carries it regularised (mino.h), and for the
  * observer at infinity gives it renormalised, lim [t_o - t - r_o - 2M
  * ln(r_o/M)] as r_o -> infinity. Meaningless beyond the horizon stop; NaN
- * for a ray in the ingoing chart (BL t is not a coordinate there). */
+ * for a ray from inside the horizon, in the ingoing chart (BL t is not a
+ * coordinate there) and after it (the observer's BL t belongs to the
+ * interior's own patch, and T is not followed through r+). */
 CR_HD static inline double cr_ray_delay(const cr_ray *ray, const double *y)
 {
     if (ray->kind != CR_INTEG_MINO)
         return -y[CR_Y_T];
-    return ray->c.chart == CR_CHART_BL ? cr_mino_delay(&ray->c, y) : NAN;
+    return ray->c.chart == CR_CHART_BL && !ray->crossed ? cr_mino_delay(&ray->c, y) : NAN;
 }
 
 /* The delay at state ys = cr_ray_state_at(ray, s) of the current step; under
@@ -641,11 +643,13 @@ CR_HD static inline int cr_ray_misses_scene(const cr_frame *f, const cr_ray *ray
 /* After an accepted Mino step: T where its own estimate says the step did
  * not resolve it, by quadrature on the dense output (mino.h), wherever the
  * time can still be needed (not moving outward beyond every object,
- * cr_frame.w_obj). The scalar and the packet path (render/cpu_packet.c)
+ * cr_frame.w_obj; never for a ray from inside the horizon, whose delay is
+ * NaN). The scalar and the packet path (render/cpu_packet.c)
  * both call it. */
 CR_HD static inline void cr_ray_time_step(const cr_frame *f, cr_ray *ray)
 {
-    ray->t_quad = !(ray->m1[CR_M_DW] < 0.0 && ray->m1[CR_M_W] < f->w_obj) &&
+    ray->t_quad = !cr_ray_ingoing(ray) && !ray->crossed && /* no delay there */
+                  !(ray->m1[CR_M_DW] < 0.0 && ray->m1[CR_M_W] < f->w_obj) &&
                   cr_mino_t_unresolved(&ray->st, ray->m, ray->m1, ray->hm, f->tolerance);
     if (ray->t_quad)
         ray->m1[CR_M_T] = cr_mino_t_quad(&ray->c, &ray->st, ray->m, ray->m1, ray->hm, 1.0);
