@@ -990,6 +990,57 @@ static void test_plunge_inner(void **state)
     assert_true(worst < 1e-8);
 }
 
+/* Continuity across r-: the same free-faller (Kerr-Newman a = 0.6, Q = 0.3,
+ * theta = 60 deg, a disc from 3 to 15 M) at r- (1 + 1e-6), between the
+ * horizons, and at r- (1 - 1e-6), inside r-: the same 41 x 41 fisheye image,
+ * >= 99 % of the pixels ending the same way, disc hits within 1e-3 relative
+ * in radius and 1e-3 rad in azimuth (the frame is the same free-fall frame
+ * on both sides; only the rays' first stretch, across r-, differs). */
+static void test_continuity_inner(void **state)
+{
+    cr_frame fo, fi;
+    const int w = 41;
+    int i, j, same = 0, total = 0, disc = 0;
+    double worst_r = 0.0, worst_p = 0.0, rm;
+    (void)state;
+    {
+        cr_metric mt = {1.0, 0.6, 0.3};
+        rm = cr_metric_r_minus(&mt);
+    }
+    fall_frame(&fo, 0.6, 0.3, rm * (1.0 + 1e-6), 60.0 * DEG, w, w, 1e-9);
+    fall_frame(&fi, 0.6, 0.3, rm * (1.0 - 1e-6), 60.0 * DEG, w, w, 1e-9);
+    assert_true(fo.obs_inside && !fo.obs_inner);
+    assert_true(fi.obs_inner);
+    fo.disc.enabled = fi.disc.enabled = 1;
+    fo.disc.r_in = fi.disc.r_in = 3.0;
+    fo.disc.r_out = fi.disc.r_out = 15.0;
+    fo.disc.r_hit_in = fi.disc.r_hit_in = 3.0;
+    fo.disc.n_radial = fi.disc.n_radial = 2;
+    fo.disc.n_sectors = fi.disc.n_sectors = 8;
+    for (j = 0; j < w; j++)
+        for (i = 0; i < w; i++) {
+            cr_pixel po, pi;
+            if (!cr_camera_in_image(&fo, i, j))
+                continue;
+            po = cr_trace_point(&fo, i, j);
+            pi = cr_trace_point(&fi, i, j);
+            total++;
+            same += po.outcome == pi.outcome;
+            if (po.outcome == CR_OUT_DISC && pi.outcome == CR_OUT_DISC) {
+                double dp = fabs(po.hit_phi - pi.hit_phi);
+                worst_r = fmax(worst_r, fabs(po.hit_r - pi.hit_r) / po.hit_r);
+                worst_p = fmax(worst_p, fmin(dp, CR_TWO_PI - dp));
+                disc++;
+            }
+        }
+    printf("continuity at r- (1 +- 1e-6): %d of %d pixels in the same class, %d on the disc "
+           "in both: worst relative change of the hit radius %.2e, of its azimuth %.2e rad\n",
+           same, total, disc, worst_r, worst_p);
+    assert_true(same >= 0.99 * total);
+    assert_true(disc > total / 50);
+    assert_true(worst_r < 1e-3 && worst_p < 1e-3);
+}
+
 /* ---- 10. the other exterior's sky ----------------------------------------- */
 
 /* skymap.other_side (ray.h's mirror): a Schwarzschild free-faller at r = 1
@@ -1253,7 +1304,8 @@ int main(void)
         cmocka_unit_test(test_continuity),          cmocka_unit_test(test_inside_sky_shift),
         cmocka_unit_test(test_plunge_worldline),    cmocka_unit_test(test_null_across_inner),
         cmocka_unit_test(test_rn_ray_inner),        cmocka_unit_test(test_singularity_outcome),
-        cmocka_unit_test(test_plunge_inner),        cmocka_unit_test(test_other_side_sky),
+        cmocka_unit_test(test_plunge_inner),        cmocka_unit_test(test_continuity_inner),
+        cmocka_unit_test(test_other_side_sky),
         cmocka_unit_test(test_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
