@@ -46,8 +46,18 @@
  *    animation [infall, r0, r1] against r(tau) in closed form (Schwarzschild)
  *    and the BL phi of a Kerr plunge against a quadrature of u^phi/|u^r|.
  * 8. Refused: static, zamo and orbit inside r+, an observer on r+ or r-,
- *    inside r-, at r = 0, inside an extremal hole, |v| >= 1 inside, rk4
- *    inside; each message names the key.
+ *    inside r- below the bounce Q^2/2M, static inside r-, below 1e-4 M,
+ *    inside an extremal hole, |v| >= 1 inside, rk4 inside; each message
+ *    names the key.
+ * 9. Inside the inner horizon (each test's comment has its figures): the
+ *    null condition along rays crossing r- and r+; an RN ray's path through
+ *    r- (straight out, and turning inside r-) against the exact radial
+ *    integral; which rays reach r = 0 against R(r); an RN plunge through r+
+ *    and r- against tau(r) in closed form; continuity across r-.
+ * 10. The other exterior's sky (skymap.other_side): pixels unchanged but the
+ *    other side's, its sky where b < 3 sqrt(3) with g = 1/|E|, one path
+ *    against the radial integral, and ray.h's mirror against the mirror
+ *    image of a Kerr-Newman start made here.
  */
 #include <setjmp.h>
 #include <stdarg.h>
