@@ -183,7 +183,8 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
  * order, and returns their number (0: nothing to say). */
 int cr_scene_hints(const cr_scene *s, int n, cr_err *hints, int max_hints);
 
-/* 1 when any number of the scene is animated ([linear, a, b] with a != b). */
+/* 1 when any number of the scene is animated ([linear, a, b] with a != b) or
+ * the observer's time runs on over the frames (observer.dt: moving spheres). */
 int cr_scene_animated(const cr_scene *s);
 /* Automatic exposure of the Keplerian disc (accretion.exposure: auto), once
  * for the whole run: frame 0 of n is traced on the CPU at a preview size of

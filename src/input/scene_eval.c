@@ -851,12 +851,14 @@ int cr_scene_animated(const cr_scene *s)
                           &s->yaw,       &s->hfov,     &s->vfov,       &s->hextent,
                           &s->vextent,   &s->obs_v[0], &s->obs_v[1],   &s->obs_v[2],
                           &s->disc_yaw,  &s->disc_r_in, &s->disc_r_out, &s->sky_boundary,
-                          &s->disc_exposure};
+                          &s->disc_exposure, &s->obs_t};
     size_t i;
     int j;
     for (i = 0; i < sizeof v / sizeof v[0]; i++)
         if (v[i]->a != v[i]->b)
             return 1;
+    if (s->obs_dt != 0.0) /* the observer's time runs on: moving spheres move */
+        return 1;
     for (j = 0; j < s->n_spheres; j++) {
         const cr_scene_sphere *p = &s->spheres[j];
         const cr_anim *w[] = {&p->r, &p->theta, &p->phi, &p->roll, &p->pitch, &p->yaw,
@@ -893,6 +895,10 @@ int cr_scene_hints(const cr_scene *s, int n, cr_err *hints, int max_hints)
             double st = sin(cr_anim_at(p->theta, k, n));
             double disc = m * m - a * a - q * q;
             double rp = m + sqrt(disc > 0.0 ? disc : 0.0);
+            if (p->r_isco) { /* r: isco, as frame_sphere_motion sets it */
+                cr_metric mt = {m, a, q};
+                r = cr_orbit_r_isco(&mt, cr_orbit_sense(&mt, !p->retrograde));
+            }
             if (sqrt(r * r + a * a * st * st) + cr_anim_at(p->radius, k, n) <= rp) {
                 inside++;
                 if (first < 0)
