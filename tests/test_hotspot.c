@@ -24,6 +24,8 @@
  *    sphere pixels. At least two sphere pixels are checked, and the test
  *    checks that the sphere where it is at t_obs (no travel time) would be
  *    met elsewhere, by far more than the tolerance: the check can fail.
+ *    The same scene in units of M = 2 traces the same rays (hit_r, the
+ *    delay, in units of M, and g the same, to 1e-9).
  * 3. Bad input, refused naming the key: a motion faster than light, an
  *    orbit inside the photon orbit or the horizon, the orbit's keys on a
  *    sphere without that motion, the observer's time with nothing moving,
@@ -287,6 +289,37 @@ static void test_moving(void **state)
     moving(0.0, 1e-4); /* the default tolerance, 1e-7 */
 }
 
+/* The moving scene in units of M = 2 (every length and time doubled, omega
+ * halved by the orbit) traces the same rays: the same outcomes, hit_r, delay
+ * (both in units of M, as every pixel value) and g, to 1e-9 relative. */
+static void test_units(void **state)
+{
+    char one[1024], two[1024];
+    const char *fmt = "metric: {m: %g, a: %g, q: 0}\n"
+                      "observer: {r: %g, theta: 80, phi: 0, hfov: 40, t: %g}\n"
+                      "sphere:\n  color: [0, 0, 255]\n  resolution: [4, 8]\n  r: %g\n"
+                      "  theta: 90\n  phi: 0.5 rad\n  radius: %g\n  motion: orbit\n";
+    cr_pixel *p, *q;
+    int i, hits = 0;
+    (void)state;
+    snprintf(one, sizeof one, fmt, 1.0, 0.5, RO, TOBS, RS, RAD);
+    snprintf(two, sizeof two, fmt, 2.0, 1.0, 2 * RO, 2 * TOBS, 2 * RS, 2 * RAD);
+    p = render(one, 40, 30, CR_INTEG_MINO, 0.0, NULL);
+    q = render(two, 40, 30, CR_INTEG_MINO, 0.0, NULL);
+    for (i = 0; i < 40 * 30; i++) {
+        assert_int_equal(p[i].outcome, q[i].outcome);
+        if (p[i].outcome != CR_OUT_SPHERE)
+            continue;
+        hits++;
+        assert_true(fabs(q[i].hit_r - p[i].hit_r) <= 1e-9 * p[i].hit_r);
+        assert_true(fabs(q[i].delay - p[i].delay) <= 1e-9 * fabs(p[i].delay));
+        assert_true(fabs(q[i].redshift - p[i].redshift) <= 1e-9 * p[i].redshift);
+    }
+    assert_true(hits > 20);
+    free(p);
+    free(q);
+}
+
 /* ---- 3. bad input ---------------------------------------------------- */
 
 static void refused(const char *sphere_keys, const char *observer_extra, const char *want)
@@ -350,6 +383,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_at_rest),
         cmocka_unit_test(test_moving),
+        cmocka_unit_test(test_units),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

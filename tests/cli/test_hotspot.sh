@@ -57,6 +57,15 @@ PY
     then ok "frame $k: flux and centroid from the pixels"; else bad "frame $k: flux and centroid" "python"; fi
 done
 
+# t_obs is written in the scene's length unit (here M = 2 of it)
+sed -e 's/^  m: 1$/  m: 2/' inf.yml > m2.yml
+run -s m2.yml -o m2 -x 16 -y 16 -f 2 -t l -a true -q true
+if [ $RC = 0 ] && grep -q '^  m: 2$' m2.yml && [ "$(sed -n 2p m2/l_1.csv | cut -d, -f2)" = 0.8709548107302603 ]; then
+    ok "t_obs in the scene's unit"
+else
+    bad "t_obs in the scene's unit" "rc $RC"
+fi
+
 # --- --resume writes a lost light-curve file again, the same -----------------------
 cp hs/l_1.csv l_1.before
 rm hs/l_1.csv
