@@ -78,11 +78,9 @@ CR_HD static inline cr_rgb cr_sphere_color(const cr_sphere *s, const double x[3]
  * -omega t), where it is the static prepared sphere. */
 
 /* Largest angle (rad) a moving sphere turns through over one piece of a
- * step in which its hits are looked for (cr_sphere_events): the step is cut
- * into at most CR_SPHERE_MAX_PIECES pieces of at most this turn, and in
- * each piece the sphere is found as a static one is over a whole step. */
-#define CR_SPHERE_MAX_TURN 0.1
-#define CR_SPHERE_MAX_PIECES 64
+ * step in which its hits are looked for (cr_sphere_turning): in each piece
+ * the sphere is found as a static one is over a whole step. */
+#define CR_SPHERE_MAX_TURN 0.25
 
 /* The 4-velocity u^mu (BL) of a moving sphere's matter at (r, th): rigid
  * rotation at omega, u = u^t (1, 0, 0, omega) with u^t = 1 / sqrt(-(g_tt +
@@ -322,18 +320,25 @@ CR_HD static inline double cr_sphere_piece(const cr_frame *f, const cr_ray *ray,
     return cr_sphere_locate(f, ray, k, sa, v0, s_hi, v1, ys);
 }
 
-/* Whether moving sphere k cannot be met within the current step: the step's
- * chord from x0 to x1 (world Cartesian) stays beyond the ball |x| <= |c| + R
+/* Whether moving sphere k cannot be met within a piece of the current step
+ * from state y0 (world Cartesian x0) to y1 (x1): the piece's chord stays
+ * beyond the ball |x| <= |c| + R
  * about the origin that holds the sphere at every time, or beyond the slab
  * |z - c_z| <= R, by a quarter of its length under Mino (cr_sphere_piece's
- * slack). */
+ * slack); or the piece starts and ends inside the sphere's smallest BL
+ * radius, sqrt((|c| - R)^2 - a^2) (|x|^2 = r^2 + a^2 sin^2 theta <= r^2 +
+ * a^2), moving inward at both ends: leaving that radius and coming back
+ * within it would take two radial turning points, which light outside
+ * the horizon never has (it has no bound orbits there). */
 CR_HD static inline int cr_sphere_far(const cr_frame *f, const cr_ray *ray, int k,
-                                      const double x0[3], const double x1[3])
+                                      const double x0[3], const double x1[3], const double *y0,
+                                      const double *y1)
 {
     const cr_sphere *sp = &f->spheres[k];
     const double *c = sp->center;
     double d[3], dd = 0.0, xd = 0.0, t, dist2 = 0.0, slack;
-    double rho = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + sp->radius;
+    double cn = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), rho = cn + sp->radius;
+    double lo = cn - sp->radius, a = f->metric.a;
     int i;
     for (i = 0; i < 3; i++) {
         d[i] = x1[i] - x0[i];
@@ -350,15 +355,103 @@ CR_HD static inline int cr_sphere_far(const cr_frame *f, const cr_ray *ray, int 
         double xm = x0[i] + t * d[i];
         dist2 += xm * xm;
     }
-    return dist2 >= (rho + slack) * (rho + slack);
+    if (dist2 >= (rho + slack) * (rho + slack))
+        return 1;
+    if (lo > fabs(a)) {
+        /* BL r at the step's ends: 1 / w under Mino (BL here: no event is
+         * looked for in the ingoing chart), r under RK4 */
+        double r2_lo = lo * lo - a * a;
+        if (ray->kind == CR_INTEG_MINO)
+            return y0[CR_M_DW] > 0.0 && y1[CR_M_DW] > 0.0 &&
+                   y0[CR_M_W] * y0[CR_M_W] * r2_lo > 1.0 && y1[CR_M_W] * y1[CR_M_W] * r2_lo > 1.0;
+        return y0[CR_Y_UR] < 0.0 && y1[CR_Y_UR] < 0.0 && y0[CR_Y_R] * y0[CR_Y_R] < r2_lo &&
+               y1[CR_Y_R] * y1[CR_Y_R] < r2_lo;
+    }
+    return 0;
+}
+
+/* Pieces of a step that a turning sphere's hits are looked for in, at
+ * most, and how often a piece may be halved to turn by at most
+ * CR_SPHERE_MAX_TURN. */
+#define CR_SPHERE_MAX_PIECES 64
+#define CR_SPHERE_MAX_HALVINGS 8
+
+/* The earliest hit before best of turning sphere k (omega != 0) within the
+ * current step (x0, x1 the world Cartesian positions at its ends), or 2.
+ * The step is walked in pieces from its start: a piece that cr_sphere_far
+ * rules out is passed over whole; one that may meet the sphere is halved
+ * until the sphere turns by at most CR_SPHERE_MAX_TURN over it (judged on the
+ * dense output's own T) and looked at as a static sphere is over a step
+ * (cr_sphere_piece), at the states' times. The next trial piece is twice the
+ * last; the last of CR_SPHERE_MAX_PIECES pieces takes the rest of the step. */
+CR_HD static inline double cr_sphere_turning(const cr_frame *f, const cr_ray *ray, int k,
+                                             const double x0[3], const double x1[3],
+                                             double best, double *ys)
+{
+    const cr_sphere *sp = &f->spheres[k];
+    double sa = 0.0, len = 1.0, ya[CR_RAY_NY], yb[CR_RAY_NY], xa[3], xb[3], la[3], lb[3];
+    double ta, tb, s;
+    int pieces, have_la = 0, i;
+    for (i = 0; i < CR_RAY_NY; i++)
+        ya[i] = cr_ray_y0(ray)[i];
+    for (i = 0; i < 3; i++)
+        xa[i] = x0[i];
+    ta = f->t_obs - cr_ray_delay(ray, ya);
+    for (pieces = 1; sa < 1.0 && sa < best; pieces++) {
+        double sb;
+        int h, far = 0;
+        len = fmin(len, 1.0 - sa);
+        for (h = 0;; h++) {
+            sb = pieces == CR_SPHERE_MAX_PIECES ? 1.0 : (sa + len >= 1.0 ? 1.0 : sa + len);
+            if (sb >= 1.0) {
+                for (i = 0; i < CR_RAY_NY; i++)
+                    yb[i] = cr_ray_y1(ray)[i];
+                for (i = 0; i < 3; i++)
+                    xb[i] = x1[i];
+            } else {
+                cr_ray_state_at(ray, sb, yb);
+                cr_ray_cart(f, ray, yb, xb);
+            }
+            tb = f->t_obs - cr_ray_delay(ray, yb); /* the dense T: for the size */
+            if (cr_sphere_far(f, ray, k, xa, xb, ya, yb)) {
+                far = 1;
+                break;
+            }
+            if (!(fabs(sp->omega * (tb - ta)) > CR_SPHERE_MAX_TURN) ||
+                h == CR_SPHERE_MAX_HALVINGS || (sb >= 1.0 && pieces == CR_SPHERE_MAX_PIECES))
+                break;
+            len *= 0.5;
+        }
+        if (!far) {
+            /* the sphere's own coordinates at both ends, at their times */
+            if (!have_la && !cr_sphere_local(f, ray, k, sa, ya, la))
+                return 2.0;
+            if (!cr_sphere_local(f, ray, k, sb, yb, lb))
+                return 2.0;
+            s = cr_sphere_piece(f, ray, k, sa, sb, la, lb, best, ys);
+            if (s <= 1.0)
+                return s;
+            for (i = 0; i < 3; i++)
+                la[i] = lb[i];
+        }
+        have_la = !far;
+        sa = sb;
+        ta = tb;
+        len *= 2.0;
+        for (i = 0; i < CR_RAY_NY; i++)
+            ya[i] = yb[i];
+        for (i = 0; i < 3; i++)
+            xa[i] = xb[i];
+    }
+    return 2.0;
 }
 
 /* Earliest sphere hit within the current step (x0, x1 the Cartesian
- * positions at its ends): for each sphere, the earliest of its pieces
- * (cr_sphere_piece): the whole step for a static sphere or one at rest,
- * pieces of at most CR_SPHERE_MAX_TURN of its turn for a turning one (which
- * cr_sphere_far may rule out first). Returns the sphere index or -1; on a
- * hit, *s_out and ys hold the located point. */
+ * positions at its ends): for each sphere the earliest hit of the whole
+ * step as one piece (cr_sphere_piece) for a static sphere or one at rest
+ * (looked for at the states' times all the same), of cr_sphere_turning's
+ * pieces for a turning one. Returns the sphere index or -1; on a hit,
+ * *s_out and ys hold the located point. */
 CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_ray *ray,
                                          const double x0[3], const double x1[3], double *s_out,
                                          double *ys)
@@ -367,43 +460,24 @@ CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_ray *ray,
     double best_s = 2.0, tmp[CR_RAY_NY];
     for (k = 0; k < f->n_spheres; k++) {
         const cr_sphere *sp = &f->spheres[k];
-        double xa[3], xb[3], sa = 0.0, s = 2.0, ta = 0.0, tb = 0.0;
-        int n = 1, j;
-        if (!sp->moving) {
-            for (i = 0; i < 3; i++)
-                xa[i] = x0[i];
+        double xa[3], xb[3], s;
+        if (sp->moving && sp->omega != 0.0) {
+            s = cr_sphere_turning(f, ray, k, x0, x1, best_s, tmp);
         } else {
-            if (sp->omega != 0.0 && cr_sphere_far(f, ray, k, x0, x1))
-                continue;
-            ta = cr_sphere_ray_time(f, ray, 0.0, cr_ray_y0(ray));
-            tb = cr_sphere_ray_time(f, ray, 1.0, cr_ray_y1(ray));
-            if (!cr_isfinite(ta) || !cr_isfinite(tb))
-                continue; /* no BL time: nothing drawn there (ray.h) */
-            cr_sphere_unturn(sp, ta, x0, xa);
-            if (sp->omega != 0.0) {
-                double pieces = ceil(fabs(sp->omega * (tb - ta)) / CR_SPHERE_MAX_TURN);
-                n = pieces > CR_SPHERE_MAX_PIECES ? CR_SPHERE_MAX_PIECES
-                                                  : (pieces < 1.0 ? 1 : (int)pieces);
-            }
-        }
-        for (j = 1; j <= n && sa < best_s; j++) {
-            double sb = (double)j / n;
-            if (j < n) {
-                cr_ray_state_at(ray, sb, tmp);
-                if (!cr_sphere_local(f, ray, k, sb, tmp, xb))
-                    break;
-            } else if (sp->moving) {
+            if (sp->moving) {
+                double ta = cr_sphere_ray_time(f, ray, 0.0, cr_ray_y0(ray));
+                double tb = cr_sphere_ray_time(f, ray, 1.0, cr_ray_y1(ray));
+                if (!cr_isfinite(ta) || !cr_isfinite(tb))
+                    continue; /* no BL time: nothing drawn there (ray.h) */
+                cr_sphere_unturn(sp, ta, x0, xa);
                 cr_sphere_unturn(sp, tb, x1, xb);
             } else {
-                for (i = 0; i < 3; i++)
+                for (i = 0; i < 3; i++) {
+                    xa[i] = x0[i];
                     xb[i] = x1[i];
+                }
             }
-            s = cr_sphere_piece(f, ray, k, sa, sb, xa, xb, best_s, tmp);
-            if (s <= 1.0)
-                break;
-            sa = sb;
-            for (i = 0; i < 3; i++)
-                xa[i] = xb[i];
+            s = cr_sphere_piece(f, ray, k, 0.0, 1.0, xa, xb, best_s, tmp);
         }
         if (s < best_s) {
             best_s = s;
