@@ -56,7 +56,7 @@
 
 #define B_C 5.196152422706632 /* 3 sqrt(3) */
 
-/* The bounds at the default tolerance (1e-8): relative for hit_r and g,
+/* The bounds at the default tolerance (1e-7): relative for hit_r and g,
  * radians for hit_phi, relative to max(|delay|, hit_r) for the delay; the
  * listing's pixel, relative. The aim is 1e-7 for each: g, hit_phi and the
  * pixel meet it (measured 4.7e-8, 2e-15, 2.0e-8), hit_r comes within 2e-7
