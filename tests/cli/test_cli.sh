@@ -832,10 +832,13 @@ else
     [[ "$OUT" == *"interrupted again: stopped at once"* ]] || why=${why:-"message lacks 'interrupted again: stopped at once'"}
     [ -e s2/d_0.csv ] && why=${why:-"the unfinished frame left d_0.csv"}
     [ -z "$(temps_in s2)" ] || why=${why:-"temporary files left: $(temps_in s2)"}
-    # a sanitizer build (it cannot start under ulimit -v) runs a signal handler
-    # only at its next intercepted call, which the CSV writer makes seldom
-    limit=0.5
-    (ulimit -v 3000000 && "$CURRAY" --version) >/dev/null 2>&1 || limit=3
+    # that the frame never finished (no d_0.csv) shows the stop did not wait
+    # for it; the time is a bound on "at once" loose enough for a loaded
+    # machine (0.72 s seen at a load of 13 on 2 cores). A sanitizer build (it
+    # cannot start under ulimit -v) runs a signal handler only at its next
+    # intercepted call, which the CSV writer makes seldom
+    limit=2
+    (ulimit -v 3000000 && "$CURRAY" --version) >/dev/null 2>&1 || limit=6
     awk -v t="$took" -v l="$limit" 'BEGIN { exit !(t < l) }' || why=${why:-"took $took s after the second SIGINT (limit $limit s)"}
     if [ -z "$why" ]; then ok "second Ctrl-C stops at once ($took s)"; else bad "second Ctrl-C stops at once" "$why"; fi
 fi
