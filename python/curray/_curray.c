@@ -287,11 +287,43 @@ static int cr_py_trace_frame(const cr_py_job *j, cr_backend *b, char **a, cr_spe
 /* _render(scene, is_path, name, config, width, height, frame, frames,
  * backend) -> {name: bytearray} of the arrays above, row-major from the
  * top-left. */
+/* Picks the backend of job j (cr_py_backend) and opens it for a width x
+ * height frame: the CPU backend's buffer of the frame's pixels, or the GPU
+ * session. Refused with MemoryError before anything large is allocated when
+ * per_px bytes a pixel cannot fit, as the command line refuses such a run.
+ * Returns 0, or -1 with the Python error set and j freed. */
+static int cr_py_open(cr_py_job *j, const char *backend, long width, long height, size_t per_px,
+                      cr_backend *b)
+{
+    cr_err err;
+    int device = cr_py_backend(backend, &j->cfg);
+    if (device == -2) {
+        cr_py_job_free(j);
+        return -1;
+    }
+    if (cr_cpu_memory_check((double)width * (double)height * (double)per_px, &err)) {
+        cr_py_job_free(j);
+        PyErr_Format(PyExc_MemoryError, "a %ldx%ld frame %s; choose a smaller width, height",
+                     width, height, err.msg);
+        return -1;
+    }
+    if (cr_backend_open(b, device, cr_backend_cpu_threads(0, j->cfg.cpu_threads), (int)width,
+                        (int)height, &err)) {
+        cr_py_job_free(j);
+        if (device < 0)
+            PyErr_NoMemory();
+        else
+            cr_py_value_error("", &err);
+        return -1;
+    }
+    return 0;
+}
+
 static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
 {
     const char *scene, *name, *cfg, *backend = "auto";
     Py_ssize_t scene_len, cfg_len;
-    int is_path, rc, k, device;
+    int is_path, rc, k;
     long width, height, fk, nf;
     size_t n, per_px;
     cr_py_job j;
@@ -306,29 +338,13 @@ static PyObject *cr_py_render(PyObject *self, PyObject *args, PyObject *kw)
         return NULL;
     if (cr_py_prepare(&j, scene, scene_len, name, is_path, cfg, cfg_len, width, height, fk, nf))
         return NULL;
-    device = cr_py_backend(backend, &j.cfg);
-    if (device == -2) {
-        cr_py_job_free(&j);
-        return NULL;
-    }
     /* the pixels (the CPU's buffer, or the GPU session's pinned one) and the
-     * arrays: refused before anything large is allocated when they cannot
-     * fit, as the command line refuses such a run */
+     * arrays */
     n = (size_t)width * (size_t)height;
     for (per_px = sizeof(cr_pixel), k = 0; k < CR_A_N; k++)
         per_px += cr_py_arrays[k].size;
-    if (cr_cpu_memory_check((double)n * (double)per_px, &err)) {
-        cr_py_job_free(&j);
-        PyErr_Format(PyExc_MemoryError, "a %ldx%ld frame %s; choose a smaller width, height",
-                     width, height, err.msg);
+    if (cr_py_open(&j, backend, width, height, per_px, &b))
         return NULL;
-    }
-    /* the CPU backend's buffer of the frame's pixels, or the GPU session */
-    if (cr_backend_open(&b, device, cr_backend_cpu_threads(0, j.cfg.cpu_threads), (int)width,
-                        (int)height, &err)) {
-        cr_py_job_free(&j);
-        return device < 0 ? PyErr_NoMemory() : cr_py_value_error("", &err);
-    }
     if (!(out = PyDict_New()))
         goto nomem;
     for (k = 0; k < CR_A_N; k++) {
@@ -381,7 +397,7 @@ static PyObject *cr_py_spectrum(PyObject *self, PyObject *args, PyObject *kw)
 {
     const char *scene, *name, *cfg, *backend = "auto";
     Py_ssize_t scene_len, cfg_len;
-    int is_path, rc, device;
+    int is_path, rc;
     long width, height, fk, nf;
     cr_py_job j;
     cr_backend b;
@@ -404,22 +420,8 @@ static PyObject *cr_py_spectrum(PyObject *self, PyObject *args, PyObject *kw)
         cr_py_job_free(&j);
         return NULL;
     }
-    device = cr_py_backend(backend, &j.cfg);
-    if (device == -2) {
-        cr_py_job_free(&j);
+    if (cr_py_open(&j, backend, width, height, sizeof(cr_pixel), &b))
         return NULL;
-    }
-    if (cr_cpu_memory_check((double)width * (double)height * (double)sizeof(cr_pixel), &err)) {
-        cr_py_job_free(&j);
-        PyErr_Format(PyExc_MemoryError, "a %ldx%ld frame %s; choose a smaller width, height",
-                     width, height, err.msg);
-        return NULL;
-    }
-    if (cr_backend_open(&b, device, cr_backend_cpu_threads(0, j.cfg.cpu_threads), (int)width,
-                        (int)height, &err)) {
-        cr_py_job_free(&j);
-        return device < 0 ? PyErr_NoMemory() : cr_py_value_error("", &err);
-    }
     err.msg[0] = '\0';
     memset(&s, 0, sizeof s);
     rc = cr_py_trace_frame(&j, &b, NULL, &s, &err);
