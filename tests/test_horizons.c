@@ -416,35 +416,38 @@ static double rn_v(double E, double L, double q, double r0, double r1)
     return sum;
 }
 
+/* Traces the ray of frame f's camera direction outward e_r cos(psi) +
+ * e_ph sin(psi) (in the observer's equatorial plane), recording its path
+ * into pts (room for 4000 points, 8 a step). */
+static cr_pixel trace_in_plane(const cr_frame *f, double psi, cr_path *path, double *pts)
+{
+    const double n[3] = {cos(psi), 0.0, sin(psi)};
+    cr_geo g;
+    double yb[CR_NY];
+    cr_ray ray;
+    cr_camera_ray(f, n, &g, yb);
+    cr_ray_from_bl(f, &g, yb, &ray);
+    path->pts = pts;
+    path->cap = 4000;
+    path->sub = 8;
+    ray.path = path;
+    return cr_trace_loop(f, &ray);
+}
+
 static void test_rn_ray_path(void **state)
 {
     cr_frame f;
     cr_path path;
     static double pts[4000 * CR_PN];
     const double q = 0.8, r0 = 1.0, psi = 40.0 * DEG;
-    double n[3], E, L, worst = 0.0, vr, worst_t = 0.0, rp = 0.0, rm, lp, lm;
+    double E, L, worst = 0.0, vr, worst_t = 0.0, rp = 0.0, rm, lp, lm;
     cr_pixel px;
     int i, checked = 0, inside = 0, in_bl = 0;
     (void)state;
     fall_frame(&f, 0.0, q, r0, 90.0 * DEG, 101, 101, 1e-11);
     f.observer.projection = CR_PROJ_RECTILINEAR;
     cr_frame_prepare(&f);
-    /* the camera's local direction: outward e_r cos(psi) + e_ph sin(psi) */
-    n[0] = cos(psi);
-    n[1] = 0.0;
-    n[2] = sin(psi);
-    {
-        cr_geo g;
-        double yb[CR_NY];
-        cr_ray ray;
-        cr_camera_ray(&f, n, &g, yb);
-        cr_ray_from_bl(&f, &g, yb, &ray);
-        path.pts = pts;
-        path.cap = 4000;
-        path.sub = 8;
-        ray.path = &path;
-        px = cr_trace_loop(&f, &ray);
-    }
+    px = trace_in_plane(&f, psi, &path, pts);
     assert_int_equal(px.outcome, CR_OUT_SKY);
     /* independent constants: the free-fall frame of observer.h written here */
     vr = sqrt(2.0 / r0 - q * q / (r0 * r0));
@@ -797,7 +800,7 @@ static void test_rn_ray_inner(void **state)
         cr_frame f;
         cr_path path;
         static double pts[4000 * CR_PN];
-        double n[3], E, L, worst = 0.0, worst_t = 0.0, vr, rt = r0, phi_t = 0.0, rmin = r0;
+        double E, L, worst = 0.0, worst_t = 0.0, vr, rt = r0, phi_t = 0.0, rmin = r0;
         double r_prev = r0;
         double psi = psis[k];
         cr_pixel px;
@@ -806,21 +809,7 @@ static void test_rn_ray_inner(void **state)
         f.observer.projection = CR_PROJ_RECTILINEAR;
         cr_frame_prepare(&f);
         assert_true(f.obs_inner);
-        n[0] = cos(psi);
-        n[1] = 0.0;
-        n[2] = sin(psi);
-        {
-            cr_geo g;
-            double yb[CR_NY];
-            cr_ray ray;
-            cr_camera_ray(&f, n, &g, yb);
-            cr_ray_from_bl(&f, &g, yb, &ray);
-            path.pts = pts;
-            path.cap = 4000;
-            path.sub = 8;
-            ray.path = &path;
-            px = cr_trace_loop(&f, &ray);
-        }
+        px = trace_in_plane(&f, psi, &path, pts);
         assert_int_equal(px.outcome, CR_OUT_SKY);
         vr = sqrt(2.0 / r0 - q * q / (r0 * r0));
         E = 1.0 + cos(psi) * vr;
