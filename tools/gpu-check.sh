@@ -36,10 +36,12 @@
 #   c. the CLI through the per-run session: a 3-frame render of scenes/demo.yml
 #      on the CPU and on the GPU, with mino and with rk4, compared pixel by
 #      pixel (outcome and colour, d_<k>.csv)                       ~3 s
-#      and the plunges scenes/plunge-reissner-nordstrom.yml (through r+ and
-#      r-) and plunge-kerr.yml (through r+), 240 frames at 64x36 each, every
-#      frame compared the same way (rays crossing horizons, the ingoing
-#      chart, other side and singularity outcomes on the GPU)   not yet timed
+#      and the scenes of scene_compare_list, every frame at 64x36 compared the
+#      same way: the plunges scenes/plunge-reissner-nordstrom.yml (through r+
+#      and r-) and plunge-kerr.yml (through r+), 240 frames each (rays crossing
+#      horizons, the ingoing chart, other side and singularity outcomes on the
+#      GPU), and the moving sphere of scenes/hot-spot-isco.yml, 32 frames (the
+#      light-travel time and the matter's Doppler shift)       not yet timed
 #   d. the split of a frame's GPU time into tracing and pixel copy (-v) at
 #      1024 and 4096                                               ~5 s
 #   e. Mino vs rk4 on the GPU (kerr-disc, and kerrz-disc for mino), and a
@@ -148,24 +150,30 @@ cli_compare() { # the CLI on CPU and GPU, 3 frames, each integrator
         done
         grep -E "^  wall time" "$work/cli-$integ-cuda/info.txt" | head -3
     done
-    plunge_compare
+    scene_compare
 }
 
-plunge_compare() { # the plunges through r+ (Kerr) and r+ and r- (RN) on CPU and GPU, every frame
-    local sc be k d tot worst wk
-    for sc in plunge-reissner-nordstrom plunge-kerr; do
+# The scenes whose every frame is compared on CPU and GPU at 64x36: the plunges
+# through r+ (Kerr) and r+ and r- (RN), and the moving spheres (light-travel
+# time, Doppler from the matter's 4-velocity), as SCENE:FRAMES.
+scene_compare_list="plunge-reissner-nordstrom:240 plunge-kerr:240 hot-spot-isco:32"
+
+scene_compare() { # each scene of scene_compare_list on CPU and GPU, every frame
+    local item sc nf be k d tot worst wk
+    for item in $scene_compare_list; do
+        sc=${item%%:*} nf=${item##*:}
         for be in cpu cuda; do
             "$bdir/default/curray" -s "$root/scenes/$sc.yml" -o "$work/$sc-$be" -x 64 -y 36 \
-                -f 240 -t di -a true -q true --backend "$be" || return 1
+                -f "$nf" -t di -a true -q true --backend "$be" || return 1
         done
         tot=0 worst=0 wk=0
-        for k in $(seq 0 239); do
+        for k in $(seq 0 $((nf - 1))); do
             d=$(csv_diff "$work/$sc-cpu/d_$k.csv" "$work/$sc-cuda/d_$k.csv" | cut -d' ' -f1)
             case $d in '' | *[!0-9]*) echo "$sc frame $k: no d_$k.csv to compare"; return 1 ;; esac
             tot=$((tot + d))
             [ "$d" -gt "$worst" ] && worst=$d wk=$k
         done
-        echo "$sc (240 frames at 64x36, CPU vs GPU): $tot pixels differ in outcome or colour" \
+        echo "$sc ($nf frames at 64x36, CPU vs GPU): $tot pixels differ in outcome or colour" \
             "in all, at most $worst in one frame (frame $wk)"
         rm -f "$work/$sc"-*/d_*.csv
     done
@@ -207,7 +215,8 @@ cmd_run() {
     work=$(mktemp -d /tmp/gpu-check.XXXXXX)
     deadline=$(($(date +%s) + ${GPU_CHECK_BUDGET:-380}))
     export root bdir work
-    export -f csv_diff cli_compare plunge_compare cli_overlap bench_run gpu_split
+    export scene_compare_list
+    export -f csv_diff cli_compare scene_compare cli_overlap bench_run gpu_split
     shopt -s nullglob
     export LD_LIBRARY_PATH=$bdir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
     # the build's CTest files and test_backends (CR_SOURCE_DIR) name the folder
