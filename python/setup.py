@@ -51,6 +51,7 @@ LIB_SOURCES = [
     "input/names.c", "input/scene_parse.c", "input/scene_eval.c", "input/settings.c",
     "input/yamlutil.c", "input/sysconfig.c", "input/particle_spec.c",
     "output/info.c", "output/raypath.c", "output/output.c", "output/spectrum.c", "output/worldline.c",
+    "output/orbit_picture.c",
     "render/cpu.c", "render/backend.c", "render/run.c",
 ]
 

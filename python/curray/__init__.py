@@ -23,7 +23,7 @@ import numpy as np
 
 from . import _curray
 
-__all__ = ["render", "spectrum", "SPECTRUM_COLUMNS", "trace", "orbit", "ORBIT_COLUMNS", "backend_info", "OUTCOMES", "PATH_COLUMNS", "CONFIG_KEYS",
+__all__ = ["render", "spectrum", "SPECTRUM_COLUMNS", "trace", "orbit", "ORBIT_COLUMNS", "orbit_picture", "ORBIT_IMAGE_COLUMNS", "backend_info", "OUTCOMES", "PATH_COLUMNS", "CONFIG_KEYS",
            "__version__"]
 
 _C = _curray._constants()
@@ -277,6 +277,17 @@ ORBIT_COLUMNS = ("tau", "t", "r", "theta", "phi", "x", "y", "z", "ut", "ur", "ut
 _ENDS = {0: "span", 1: "horizon", 2: "escaped"}
 
 
+def _orbit_args(spec, what):
+    """(text, is_path, name) of an orbit file given as a path or a dict."""
+    if isinstance(spec, dict):
+        return _yaml(spec), False, "(orbit dict)"
+    if isinstance(spec, (str, bytes, os.PathLike)):
+        path = os.fsdecode(spec)
+        return path, True, path
+    raise ValueError("%s: expected a dict or the path of an orbit file, got %s"
+                     % (what, type(spec).__name__))
+
+
 class Worldline(dict):
     """The arrays of a worldline by column name, also as attributes."""
 
@@ -300,16 +311,56 @@ def orbit(spec):
     "escaped"), steps. Bad input raises ValueError with the command line's
     message.
     """
-    if isinstance(spec, dict):
-        text, is_path, name = _yaml(spec), False, "(orbit dict)"
-    elif isinstance(spec, (str, bytes, os.PathLike)):
-        text = name = os.fsdecode(spec)
-        is_path = True
-    else:
-        raise ValueError("orbit: expected a dict or the path of an orbit file, got %s"
-                         % type(spec).__name__)
-    raw, n, E, L, K, ended, steps = _curray._orbit(text, is_path, name)
+    raw, n, E, L, K, ended, steps = _curray._orbit(*_orbit_args(spec, "orbit"))
     a = np.frombuffer(raw, dtype="=f8").reshape(n, len(ORBIT_COLUMNS))
     w = Worldline((c, a[:, k].copy()) for k, c in enumerate(ORBIT_COLUMNS))
     w.update(E=E, L=L, K=K, ended=_ENDS.get(ended, str(ended)), steps=steps)
     return w
+
+
+#: columns of an image of the lensed picture (see orbit_picture), those of
+#: curray orbit -t c's orbit_image.csv
+ORBIT_IMAGE_COLUMNS = ("tau", "t", "order", "i", "j", "t_obs", "visible", "row")
+_ORBIT_MAX_SIDE = _C["orbit_max_side"]
+
+
+class OrbitPicture(Worldline):
+    """The lensed picture of an orbit (see orbit_picture), keys also attributes."""
+
+
+def orbit_picture(spec, width=320, height=240):
+    """The lensed picture of an orbit, what `curray orbit -s FILE -t c -x
+    width -y height` writes (docs/scenes.md, "The lensed picture"): spec is
+    an orbit file with a view section (a path, or a dict of its keys; a
+    relative view.scene is taken from the orbit file's folder, or for a
+    dict from the working directory).
+
+    Returns an OrbitPicture (a dict whose keys are also attributes):
+    rgb (height x width x 3 uint8, row 0 at the top: orbit.png's pixels) and
+    the columns of orbit_image.csv, one entry an image: tau, t (the point of
+    the worldline, units of M), order (int), i, j (pixel, the centre of
+    pixel (I, J) at (I, J)), t_obs (when its light arrives), visible and row
+    (bool); and points (the worldline points drawn), lost (points without
+    an image, over the orders), solves (Newton solutions tried). The same C
+    code as the command line's makes it. Bad input raises ValueError with
+    the command line's message.
+    """
+    args = _orbit_args(spec, "orbit_picture")
+    for what, v in (("width", width), ("height", height)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise ValueError("%s: expected an integer, got %r" % (what, v))
+        if not 1 <= v <= _ORBIT_MAX_SIDE:
+            raise ValueError("%s: expected a size from 1 to %d pixels, got %d"
+                             % (what, _ORBIT_MAX_SIDE, v))
+    rgb, raw, n, points, lost, solves = _curray._orbit_picture(*args, int(width), int(height))
+    a = np.frombuffer(raw, dtype="=f8").reshape(n, len(ORBIT_IMAGE_COLUMNS))
+    p = OrbitPicture(rgb=np.frombuffer(rgb, dtype="u1").reshape(int(height), int(width), 3).copy())
+    for k, c in enumerate(ORBIT_IMAGE_COLUMNS):
+        col = a[:, k].copy()
+        if c == "order":
+            col = col.astype(np.int16)
+        elif c in ("visible", "row"):
+            col = col != 0
+        p[c] = col
+    p.update(points=points, lost=lost, solves=solves)
+    return p

@@ -23,6 +23,7 @@
 #include "render/gpu.h"
 #include "render/run.h"
 #include "output/info.h"
+#include "output/orbit_picture.h"
 #include "output/output.h"
 #include "output/raypath.h"
 #include "output/spectrum.h"
@@ -538,9 +539,9 @@ static PyObject *cr_py_constants(PyObject *self, PyObject *unused)
         }
         PyTuple_SET_ITEM(names, k, s);
     }
-    return Py_BuildValue("{s:N,s:N,s:s,s:i,s:s}", "outcomes", names, "settings", settings,
+    return Py_BuildValue("{s:N,s:N,s:s,s:i,s:s,s:i}", "outcomes", names, "settings", settings,
                          "path_columns", cr_raypath_csv_header, "path_ncol", CR_PN, "version",
-                         CURRAY_VERSION);
+                         CURRAY_VERSION, "orbit_max_side", CR_OPIC_MAX_SIDE);
 }
 
 /* The rows of a worldline, gathered (worldline.h's emit). */
@@ -607,7 +608,91 @@ static PyObject *cr_py_orbit(PyObject *self, PyObject *args)
     return out;
 }
 
+/* The columns of an image of _orbit_picture, those of orbit_image.csv. */
+#define CR_PY_OPIC_COLS 8
+
+/* _orbit_picture(text, is_path, name, width, height) -> (bytes of
+ * height x width x 3 uint8, bytes of n x 8 doubles (tau, t, order, i, j,
+ * t_obs, visible, row), n, points, lost, solves): the lensed picture of an
+ * orbit file, curray orbit -t c's orbit.png and orbit_image.csv, by the
+ * same code (cr_opic_view_*); traced with the GIL released. */
+static PyObject *cr_py_orbit_picture(PyObject *self, PyObject *args)
+{
+    const char *text, *name;
+    Py_ssize_t len;
+    int is_path, rc, w, h;
+    cr_particle_spec spec;
+    cr_worldline_info info;
+    cr_opic_view view;
+    cr_opic_result r;
+    cr_pixel *px = NULL;
+    uint8_t *rgb = NULL;
+    double *img = NULL;
+    cr_err err;
+    PyThreadState *ts;
+    PyObject *out = NULL;
+    long k;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "s#psii", &text, &len, &is_path, &name, &w, &h))
+        return NULL;
+    memset(&r, 0, sizeof r);
+    rc = is_path ? cr_particle_spec_load(text, &spec, &err)
+                 : cr_particle_spec_load_string(text, (size_t)len, name, &spec, &err);
+    if (rc)
+        return cr_py_value_error("", &err);
+    if (cr_opic_view_open(&view, &spec, name, w, h, &err))
+        return cr_py_value_error("", &err);
+    px = (cr_pixel *)malloc((size_t)w * h * sizeof *px);
+    rgb = (uint8_t *)malloc((size_t)w * h * 3);
+    if (!px || !rgb) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    ts = PyEval_SaveThread();
+    /* a failing row sets err itself (the view's err is &err) */
+    rc = cr_worldline_run(&spec, cr_opic_view_row, &view, &info, &err);
+    if (!rc)
+        rc = cr_cpu_render(&view.ev.frame, 0, px, NULL, NULL, NULL, &err) ||
+             cr_opic_view_picture(&view, px, rgb, &r, &err);
+    PyEval_RestoreThread(ts);
+    if (rc) {
+        cr_py_value_error("", &err);
+        goto done;
+    }
+    img = (double *)malloc((size_t)(r.n > 0 ? r.n : 1) * CR_PY_OPIC_COLS * sizeof *img);
+    if (!img) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    for (k = 0; k < r.n; k++) {
+        const cr_opic_image *q = &r.img[k];
+        double *o = img + k * CR_PY_OPIC_COLS;
+        o[0] = q->tau;
+        o[1] = q->t;
+        o[2] = q->order;
+        o[3] = q->i;
+        o[4] = q->j;
+        o[5] = q->t_obs;
+        o[6] = q->visible;
+        o[7] = q->row;
+    }
+    out = Py_BuildValue("(y#y#nnll)", (const char *)rgb, (Py_ssize_t)((size_t)w * h * 3),
+                        (const char *)img,
+                        (Py_ssize_t)((size_t)r.n * CR_PY_OPIC_COLS * sizeof(double)),
+                        (Py_ssize_t)r.n, (Py_ssize_t)view.n, r.lost, r.solves);
+done:
+    free(img);
+    free(px);
+    free(rgb);
+    cr_opic_result_free(&r);
+    cr_opic_view_free(&view);
+    return out;
+}
+
 static PyMethodDef cr_py_methods[] = {
+    {"_orbit_picture", cr_py_orbit_picture, METH_VARARGS,
+     "The lensed picture of an orbit file (curray orbit -t c's orbit.png and\n"
+     "orbit_image.csv)."},
     {"_orbit", cr_py_orbit, METH_VARARGS,
      "The worldline of an orbit file (curray orbit's rows)."},
     {"_render", (PyCFunction)(void (*)(void))cr_py_render, METH_VARARGS | METH_KEYWORDS,

@@ -29,11 +29,6 @@
 #include "../render/cpu.h"
 #include "app.h"
 
-/* The picture's default size (pixels) and the largest side. */
-#define ORBIT_DEFAULT_W 320
-#define ORBIT_DEFAULT_H 240
-#define ORBIT_MAX_SIDE 8192
-
 static const char *const orbit_usage =
     "usage: curray orbit -s <orbit file> -o <output directory> [-t c] [-x W] [-y H] [-q]\n"
     "  writes the worldline of the file's particle to <output directory>/orbit.csv\n"
@@ -52,39 +47,6 @@ static const char *end_text(int ended)
     default:
         return "followed for the whole proper time";
     }
-}
-
-/* The rows kept for the picture: every stride-th and the last. */
-typedef struct orbit_tap {
-    cr_opic_point *pts;
-    long n, cap, seen, stride;
-    double last[CR_WL_COLS];
-    int have_last; /* last holds a row not kept */
-    const cr_metric *mt;
-    cr_err *err;
-} orbit_tap;
-
-static int tap_row(void *ctx, const double *row)
-{
-    orbit_tap *t = (orbit_tap *)ctx;
-    int i;
-    if (t->seen++ % t->stride == 0) {
-        if (t->n == t->cap) {
-            long cap = t->cap ? 2 * t->cap : 1024;
-            cr_opic_point *g = realloc(t->pts, (size_t)cap * sizeof *g);
-            if (!g)
-                return cr_err_set(t->err, "out of memory for the orbit's picture");
-            t->pts = g;
-            t->cap = cap;
-        }
-        cr_opic_point_of_row(row, t->mt, &t->pts[t->n++]);
-        t->have_last = 0;
-        return 0;
-    }
-    for (i = 0; i < CR_WL_COLS; i++)
-        t->last[i] = row[i];
-    t->have_last = 1;
-    return 0;
 }
 
 /* -t for curray orbit: c only. */
@@ -111,56 +73,22 @@ static int side_arg(const char *opt, const char *v, int *out)
 {
     char *end;
     long n = strtol(v, &end, 10);
-    if (!v[0] || *end || n < 1 || n > ORBIT_MAX_SIDE) {
+    if (!v[0] || *end || n < 1 || n > CR_OPIC_MAX_SIDE) {
         fprintf(stderr, "curray orbit: %s: expected a size from 1 to %d pixels, got '%s'\n%s",
-                opt, ORBIT_MAX_SIDE, v, orbit_usage);
+                opt, CR_OPIC_MAX_SIDE, v, orbit_usage);
         return -1;
     }
     *out = (int)n;
     return 0;
 }
 
-/* The view's scene, checked against the orbit file, as frame 0 of 1 at
- * W x H in *ev. Returns 0, or -1 with err set (naming view.scene). */
-static int load_view(const cr_particle_spec *spec, const char *orbit_path, int w, int h,
-                     cr_scene *sc, cr_frame_eval *ev, cr_err *err)
-{
-    const cr_orbit_view *v = &spec->view;
-    cr_err e;
-    if (!v->given)
-        return cr_err_set(err,
-                          "%s: -t c needs a camera: the orbit file has no view section "
-                          "(view: {scene: FILE}, a scene file whose observer takes the "
-                          "picture)",
-                          orbit_path);
-    if (cr_scene_load(v->scene, sc, &e))
-        return cr_err_set(err, "%s%s", v->where, e.msg);
-    if (sc->m.a != sc->m.b || sc->a.a != sc->a.b || sc->q.a != sc->q.b ||
-        sc->m.a != spec->mt.m || sc->a.a != spec->mt.a || sc->q.a != spec->mt.q) {
-        cr_err_set(err,
-                   "%sthe scene's metric (m %g, a %g, q %g) is not the orbit file's (m %g, "
-                   "a %g, q %g): the picture needs the same hole",
-                   v->where, sc->m.a, sc->a.a, sc->q.a, spec->mt.m, spec->mt.a, spec->mt.q);
-        cr_scene_free(sc);
-        return -1;
-    }
-    if ((sc->disc_exposure_auto &&
-         cr_scene_auto_exposure(sc, 1, w, h, NULL, NULL, &e)) ||
-        cr_frame_eval_at(ev, sc, 0, 1, w, h, NULL, &e)) {
-        cr_err_set(err, "%s%s", v->where, e.msg);
-        cr_frame_eval_free(ev);
-        cr_scene_free(sc);
-        return -1;
-    }
-    return 0;
-}
-
-/* The picture of the rows in tap into dir: orbit.png and orbit_image.csv.
- * Returns 0, or -1 with err set and neither file left. */
-static int write_picture(const cr_particle_spec *spec, const cr_frame *f, orbit_tap *tap,
-                         const char *dir, long *images, long *lost, cr_err *err)
+/* The picture of the rows taken by v into dir: orbit.png and
+ * orbit_image.csv. Returns 0, or -1 with err set and neither file left. */
+static int write_picture(cr_opic_view *v, const char *dir, long *images, long *lost,
+                         cr_err *err)
 {
     char png[4096], csv[4096];
+    const cr_frame *f = &v->ev.frame;
     size_t np = (size_t)f->width * f->height;
     cr_pixel *px = malloc(np * sizeof *px);
     uint8_t *rgb = malloc(np * 3);
@@ -177,10 +105,7 @@ static int write_picture(const cr_particle_spec *spec, const cr_frame *f, orbit_
         goto done;
     }
     if (cr_cpu_render(f, 0, px, NULL, NULL, NULL, err) ||
-        cr_opic_trace(f, tap->pts, tap->n, &spec->view, &r, err))
-        goto done;
-    cr_opic_draw(f, px, &r, &spec->view, tap->pts[0].tau, tap->pts[tap->n - 1].tau, rgb);
-    if (cr_opic_write_csv(&r, csv, err))
+        cr_opic_view_picture(v, px, rgb, &r, err) || cr_opic_write_csv(&r, csv, err))
         goto done;
     if (cr_png_write(png, f->width, f->height, rgb, err)) {
         unlink(csv);
@@ -208,15 +133,13 @@ int cr_orbit_command(int argc, char **argv)
                                              {0, 0, 0, 0}};
     const char *scene = NULL, *out = NULL, *types = NULL;
     char path[4096];
-    int quiet = 0, c, w = ORBIT_DEFAULT_W, h = ORBIT_DEFAULT_H, picture;
+    int quiet = 0, c, w = CR_OPIC_DEFAULT_W, h = CR_OPIC_DEFAULT_H, picture;
     int rc = CR_EXIT_ERROR;
     long images = 0, lost = 0;
     cr_particle_spec spec;
     cr_worldline_info info;
-    cr_scene sc;
-    cr_frame_eval ev;
+    cr_opic_view view;
     cr_atomic a;
-    orbit_tap tap;
     cr_err err;
     optind = 1;
     opterr = 0;
@@ -266,10 +189,8 @@ int cr_orbit_command(int argc, char **argv)
         fprintf(stderr, "curray: %s\n", err.msg);
         return CR_EXIT_ERROR;
     }
-    memset(&ev, 0, sizeof ev);
-    memset(&sc, 0, sizeof sc);
-    memset(&tap, 0, sizeof tap);
-    if (picture && load_view(&spec, scene, w, h, &sc, &ev, &err)) {
+    memset(&view, 0, sizeof view);
+    if (picture && cr_opic_view_open(&view, &spec, scene, w, h, &err)) {
         fprintf(stderr, "curray: %s\n", err.msg);
         return CR_EXIT_ERROR;
     }
@@ -277,29 +198,15 @@ int cr_orbit_command(int argc, char **argv)
         fprintf(stderr, "curray: output path too long: %s\n", out);
         goto done;
     }
-    tap.mt = &spec.mt;
-    tap.err = &err;
-    tap.stride = 1;
-    {
-        double rows = floor(spec.tau / spec.dtau) + 2.0;
-        if (rows > CR_OPIC_MAX_POINTS)
-            tap.stride = (long)ceil(rows / CR_OPIC_MAX_POINTS);
-    }
     if (cr_mkdir_p(out, &err) ||
-        cr_worldline_write_csv_open(&spec, path, picture ? tap_row : NULL, &tap, &a, &info,
+        cr_worldline_write_csv_open(&spec, path, picture ? cr_opic_view_row : NULL, &view,
+                                    &a, &info,
                                     &err)) {
         fprintf(stderr, "curray: %s\n", err.msg);
         goto done;
     }
     if (picture) {
-        /* the last row, when the thinning left it out */
-        tap.stride = 1;
-        if (tap.have_last && tap_row(&tap, tap.last)) {
-            cr_atomic_abort(&a);
-            fprintf(stderr, "curray: %s\n", err.msg);
-            goto done;
-        }
-        if (write_picture(&spec, &ev.frame, &tap, out, &images, &lost, &err)) {
+        if (write_picture(&view, out, &images, &lost, &err)) {
             cr_atomic_abort(&a);
             fprintf(stderr, "curray: %s\n", err.msg);
             goto done;
@@ -316,12 +223,10 @@ int cr_orbit_command(int argc, char **argv)
         if (picture)
             printf("curray orbit: %ld images of %ld points in orders 0 to %d (%ld points "
                    "without an image); wrote %s/orbit.png, %s/orbit_image.csv\n",
-                   images, tap.n, spec.view.orders - 1, lost, out, out);
+                   images, view.n, spec.view.orders - 1, lost, out, out);
     }
     rc = CR_EXIT_OK;
 done:
-    free(tap.pts);
-    cr_frame_eval_free(&ev);
-    cr_scene_free(&sc);
+    cr_opic_view_free(&view);
     return rc;
 }

@@ -519,3 +519,100 @@ int cr_opic_write_csv(const cr_opic_result *r, const char *path, cr_err *err)
     }
     return cr_atomic_commit(&a, err);
 }
+
+int cr_opic_view_open(cr_opic_view *v, const cr_particle_spec *spec, const char *orbit_name,
+                      int w, int h, cr_err *err)
+{
+    const cr_orbit_view *ov = &spec->view;
+    cr_err e;
+    double rows;
+    memset(v, 0, sizeof *v);
+    if (!ov->given)
+        return cr_err_set(err,
+                          "%s: the lensed picture needs a camera: the orbit file has no view section "
+                          "(view: {scene: FILE}, a scene file whose observer takes the "
+                          "picture)",
+                          orbit_name);
+    if (w < 1 || h < 1 || w > CR_OPIC_MAX_SIDE || h > CR_OPIC_MAX_SIDE)
+        return cr_err_set(err, "the picture's size %d x %d is not 1 to %d pixels a side", w, h,
+                          CR_OPIC_MAX_SIDE);
+    if (cr_scene_load(ov->scene, &v->sc, &e))
+        return cr_err_set(err, "%s%s", ov->where, e.msg);
+    if (v->sc.m.a != v->sc.m.b || v->sc.a.a != v->sc.a.b || v->sc.q.a != v->sc.q.b ||
+        v->sc.m.a != spec->mt.m || v->sc.a.a != spec->mt.a || v->sc.q.a != spec->mt.q) {
+        cr_err_set(err,
+                   "%sthe scene's metric (m %g, a %g, q %g) is not the orbit file's (m %g, "
+                   "a %g, q %g): the picture needs the same hole",
+                   ov->where, v->sc.m.a, v->sc.a.a, v->sc.q.a, spec->mt.m, spec->mt.a,
+                   spec->mt.q);
+        cr_scene_free(&v->sc);
+        return -1;
+    }
+    if ((v->sc.disc_exposure_auto &&
+         cr_scene_auto_exposure(&v->sc, 1, w, h, NULL, NULL, &e)) ||
+        cr_frame_eval_at(&v->ev, &v->sc, 0, 1, w, h, NULL, &e)) {
+        cr_err_set(err, "%s%s", ov->where, e.msg);
+        cr_frame_eval_free(&v->ev);
+        cr_scene_free(&v->sc);
+        return -1;
+    }
+    v->spec = spec;
+    v->err = err;
+    v->stride = 1;
+    rows = floor(spec->tau / spec->dtau) + 2.0;
+    if (rows > CR_OPIC_MAX_POINTS)
+        v->stride = (long)ceil(rows / CR_OPIC_MAX_POINTS);
+    return 0;
+}
+
+int cr_opic_view_row(void *ctx, const double *row)
+{
+    cr_opic_view *v = (cr_opic_view *)ctx;
+    int i;
+    if (v->seen++ % v->stride == 0) {
+        if (v->n == v->cap) {
+            long cap = v->cap ? 2 * v->cap : 1024;
+            cr_opic_point *g = realloc(v->pts, (size_t)cap * sizeof *g);
+            if (!g)
+                return cr_err_set(v->err, "out of memory for the orbit's picture");
+            v->pts = g;
+            v->cap = cap;
+        }
+        cr_opic_point_of_row(row, &v->spec->mt, &v->pts[v->n++]);
+        v->have_last = 0;
+        return 0;
+    }
+    for (i = 0; i < CR_WL_COLS; i++)
+        v->last[i] = row[i];
+    v->have_last = 1;
+    return 0;
+}
+
+int cr_opic_view_picture(cr_opic_view *v, const cr_pixel *px, uint8_t *rgb, cr_opic_result *r,
+                         cr_err *err)
+{
+    memset(r, 0, sizeof *r);
+    /* the last row, when the thinning left it out */
+    v->stride = 1;
+    if (v->have_last) {
+        v->have_last = 0;
+        if (cr_opic_view_row(v, v->last))
+            return cr_err_set(err, "%s", v->err->msg);
+    }
+    if (v->n < 1)
+        return cr_err_set(err, "the worldline has no rows to draw");
+    if (cr_opic_trace(&v->ev.frame, v->pts, v->n, &v->spec->view, r, err))
+        return -1;
+    cr_opic_draw(&v->ev.frame, px, r, &v->spec->view, v->pts[0].tau, v->pts[v->n - 1].tau, rgb);
+    return 0;
+}
+
+void cr_opic_view_free(cr_opic_view *v)
+{
+    free(v->pts);
+    if (v->spec) {
+        cr_frame_eval_free(&v->ev);
+        cr_scene_free(&v->sc);
+    }
+    memset(v, 0, sizeof *v);
+}

@@ -27,6 +27,8 @@
 #include "../base/error.h"
 #include "../core/defs.h"
 #include "../input/particle_spec.h"
+#include "../input/scene.h"
+#include "worldline.h"
 
 /* Largest image gap between neighbouring solved points (pixels) before the
  * worldline is cut in half, and the most halvings of one row interval. */
@@ -89,6 +91,50 @@ cr_rgb cr_opic_tau_color(double tau, double tau0, double tau1);
  * at the top). tau0, tau1: the span of the colour ramp. */
 void cr_opic_draw(const cr_frame *f, const cr_pixel *px, const cr_opic_result *r,
                   const cr_orbit_view *v, double tau0, double tau1, uint8_t *rgb);
+
+/* The picture's default size (pixels) and the largest side (curray orbit's
+ * -x, -y; curray.orbit_picture's width, height). */
+#define CR_OPIC_DEFAULT_W 320
+#define CR_OPIC_DEFAULT_H 240
+#define CR_OPIC_MAX_SIDE 8192
+
+/* The whole picture of an orbit file, the one path of `curray orbit -t c`
+ * and of the Python binding: cr_opic_view_open loads the view's scene,
+ * cr_opic_view_row takes the worldline's rows as cr_worldline_run emits
+ * them (every stride-th kept, at most CR_OPIC_MAX_POINTS), and
+ * cr_opic_view_picture draws them over the scene's pixels. */
+typedef struct cr_opic_view {
+    const cr_particle_spec *spec;
+    cr_scene sc;
+    cr_frame_eval ev;      /* frame 0 of 1 of the view's scene at the picture's size */
+    cr_opic_point *pts;    /* the rows kept, in units of M */
+    long n, cap, seen, stride;
+    double last[CR_WL_COLS]; /* the latest row not kept */
+    int have_last;
+    cr_err *err;           /* where cr_opic_view_row reports running out of memory */
+} cr_opic_view;
+
+/* Load the view section's scene of spec (loaded from the orbit file
+ * orbit_name) as frame 0 of 1 at w x h, checked against the orbit file's
+ * metric, into v, which keeps spec and err. Returns 0, or -1 with err set
+ * (naming view.scene, or saying the file has no view section) and nothing
+ * to free. */
+int cr_opic_view_open(cr_opic_view *v, const cr_particle_spec *spec, const char *orbit_name,
+                      int w, int h, cr_err *err);
+
+/* A row of the worldline (cr_worldline_run's emit, or the tap of
+ * cr_worldline_write_csv_open; ctx is the view). Returns 0, or -1 with the
+ * view's err set (out of memory). */
+int cr_opic_view_row(void *ctx, const double *row);
+
+/* The picture of the rows taken: px the scene's pixels (cr_cpu_render of
+ * v->ev.frame), into rgb (3 bytes a pixel, row 0 at the top) and the images
+ * into r (free it with cr_opic_result_free). Returns 0, or -1 with err set
+ * (no rows, out of memory). */
+int cr_opic_view_picture(cr_opic_view *v, const cr_pixel *px, uint8_t *rgb, cr_opic_result *r,
+                         cr_err *err);
+
+void cr_opic_view_free(cr_opic_view *v);
 
 /* orbit_image.csv: a header, then one row an image,
  * tau,t,order,i,j,t_obs,visible; written atomically. */

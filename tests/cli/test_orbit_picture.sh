@@ -358,7 +358,7 @@ particle: {r: 10, theta: 90, circular: prograde, tau: 20}'
 refuse_view "-t r does not apply" 2 "-t: 'r' is not an output of curray orbit" "$P
 view: {scene: face.yml}" "-t cr"
 refuse_view "-t empty" 2 "-t: empty output type" "$P" "--output_type="
-refuse_view "-t c without a camera" 1 "bad3.yml: -t c needs a camera: the orbit file has no view section" "$P"
+refuse_view "-t c without a camera" 1 "bad3.yml: the lensed picture needs a camera: the orbit file has no view section" "$P"
 refuse_view "view without a scene" 1 "bad4.yml:3:1: view: missing required key 'scene'" "$P
 view: {color: [1, 2, 3]}"
 refuse_view "missing scene file" 1 "bad5.yml:3:15: view.scene: " "$P

@@ -12,6 +12,7 @@ Known answers used here, independent of the code under test:
 """
 import csv
 import math
+import re
 import os
 import subprocess
 
@@ -752,3 +753,129 @@ def test_spectrum_bad_input(scene, text):
     s.update(scene)
     with pytest.raises(ValueError, match=text):
         curray.spectrum(s, 8, 8)
+
+
+# ---- orbit_picture == curray orbit -t c's orbit.png and orbit_image.csv -----
+
+def read_png_rgb(path):
+    """The pixels of an 8-bit RGB PNG without interlacing (what curray
+    writes), decoded here with zlib and the five PNG row filters."""
+    import struct
+    import zlib
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    pos, idat, w = 8, b"", None
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            w, h, depth, colour, _, _, interlace = struct.unpack(">IIBBBBB", body)
+            assert (depth, colour, interlace) == (8, 2, 0)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw, stride = zlib.decompress(idat), 3 * w
+    out = np.zeros((h, stride), dtype=np.int32)
+    prev = np.zeros(stride, dtype=np.int32)
+    for j in range(h):
+        f = raw[j * (stride + 1)]
+        line = np.frombuffer(raw, dtype=np.uint8, count=stride, offset=j * (stride + 1) + 1)
+        cur = line.astype(np.int32)
+        if f == 2:
+            cur = (cur + prev) & 255
+        elif f in (1, 3, 4):
+            cur = cur.copy()
+            for i in range(stride):
+                a = cur[i - 3] if i >= 3 else 0
+                b, c = prev[i], prev[i - 3] if i >= 3 else 0
+                if f == 1:
+                    pred = a
+                elif f == 3:
+                    pred = (a + b) // 2
+                else:
+                    p = a + b - c
+                    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                    pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+                cur[i] = (cur[i] + pred) & 255
+        else:
+            assert f == 0, f
+        out[j] = cur
+        prev = cur
+    return out.reshape(h, w, 3).astype(np.uint8)
+
+
+VIEW_YAML = os.path.join(SRC, "scenes", "orbits", "kerr-view.yml")
+# kerr-eccentric.yml's orbit, shorter (a third of an orbit and more), seen
+# through its view at 96 x 64
+PIC = {"metric": {"m": 1, "a": 0.9, "q": 0},
+       "particle": {"r": 15, "theta": 90, "velocity": [0, 0, 0.27], "tau": 300, "dtau": 4},
+       "view": {"scene": VIEW_YAML, "line_width": 1.5, "orders": 2}}
+PW, PH = 96, 64
+
+
+def test_orbit_picture_equals_cli(tmp_path):
+    """Every pixel of orbit.png and every value of orbit_image.csv; and the
+    drawing checked from the images (independently of the C drawing code):
+    every pixel that differs from the view's scene rendered alone lies
+    within half the line width and a pixel of the antialiasing of a visible
+    image, and every visible row image's pixel is changed."""
+    f = tmp_path / "orbit.yml"
+    f.write_text(curray._yaml(PIC))
+    r = subprocess.run([BIN, "orbit", "-s", str(f), "-o", str(tmp_path / "o"), "-t", "c",
+                        "-x", str(PW), "-y", str(PH), "-q"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    png = read_png_rgb(tmp_path / "o" / "orbit.png")
+    head, rows = read_csv(tmp_path / "o" / "orbit_image.csv")
+    assert head == list(curray.ORBIT_IMAGE_COLUMNS)
+    for p in (curray.orbit_picture(PIC, PW, PH), curray.orbit_picture(str(f), width=PW,
+                                                                        height=PH)):
+        assert p.rgb.dtype == np.uint8 and p.rgb.shape == (PH, PW, 3)
+        assert np.array_equal(p.rgb, png)
+        assert len(p.tau) == len(rows) > 76  # at least one image of each of the 76 rows
+        for k, c in enumerate(curray.ORBIT_IMAGE_COLUMNS):
+            want = np.array([float(x[k]) for x in rows])
+            assert np.array_equal(p[c].astype(np.float64), want), c
+        assert p.order.dtype == np.int16 and p.visible.dtype == bool
+        assert p.points == 76 and p.lost >= 0 and p.solves >= len(p.tau)
+        assert set(p.order.tolist()) == {0, 1}
+    bg = curray.render(VIEW_YAML, PW, PH)["rgb"]
+    changed = np.argwhere(np.any(p.rgb != bg, axis=2))
+    assert len(changed) > 50
+    vis = p.visible
+    pts = np.stack([p.i[vis], p.j[vis]], axis=1)
+    for j, i in changed:
+        d = np.min(np.hypot(pts[:, 0] - i, pts[:, 1] - j))
+        # segments join images at most CR_OPIC_JOIN = 4 px apart: a pixel
+        # on one is within 2 px of an end, plus half the width and the 0.5
+        # px antialiasing
+        assert d <= 2 + 0.75 + 0.5 + 1e-9, (i, j, d)
+    for i, j in np.rint(pts[p.row[vis]]).astype(int):
+        if 0 <= i < PW and 0 <= j < PH:
+            assert np.any(p.rgb[j, i] != bg[j, i]), (i, j)
+
+
+@pytest.mark.parametrize("change,text", [
+    ({"view": None}, "(orbit dict): the lensed picture needs a camera: the orbit file has no view"),
+    ({"view": {"scene": "/nonexistent/v.yml"}}, "view.scene: "),
+    ({"view": {"scene": VIEW_YAML, "orders": 5}}, "view.orders"),
+    ({"view": {"scene": VIEW_YAML, "line_width": 0}}, "view.line_width"),
+    ({"metric": {"m": 1, "a": 0.8, "q": 0}},
+     "view.scene: the scene's metric (m 1, a 0.9, q 0) is not the orbit file's (m 1, a 0.8"),
+    ({"width": 0}, "width: expected a size from 1 to 8192 pixels, got 0"),
+    ({"height": 8193}, "height: expected a size from 1 to 8192 pixels, got 8193"),
+    ({"width": 2.5}, "width: expected an integer"),
+])
+def test_orbit_picture_bad_input(change, text):
+    spec = {k: v for k, v in PIC.items()}
+    size = {"width": 8, "height": 8}
+    for k, v in change.items():
+        if k in size:
+            size[k] = v
+        elif v is None:
+            del spec[k]
+        else:
+            spec[k] = v
+    with pytest.raises(ValueError, match=re.escape(text)):
+        curray.orbit_picture(spec, **size)
+    with pytest.raises(ValueError, match="orbit_picture: expected a dict or the path"):
+        curray.orbit_picture(3)
