@@ -33,6 +33,10 @@
  *    orbit inside the photon orbit or the horizon, the orbit's keys on a
  *    sphere without that motion, the observer's time with nothing moving,
  *    non-finite values, an animated place of a moving sphere.
+ * 4. An observer inside the horizon: a moving sphere refused (its light's
+ *    travel time is not defined from there), the same sphere at rest
+ *    accepted and seen, an infall through r+ refused at the first frame
+ *    inside.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -418,6 +422,74 @@ static void test_bad_input(void **state)
     refused(SPH("  r: 8\n  motion: wobbling\n"), "", "].motion");
 }
 
+/* ---- 4. an observer inside the horizon ----------------------------------- */
+
+/* Frame k of n of text at 24 x 24: 0 or -1 with e set; with seen, the
+ * pixels whose object is sphere 0 counted into *seen. */
+static int frame_of(const char *text, int k, int n, cr_err *e, int *seen)
+{
+    cr_scene s;
+    cr_frame_eval ev;
+    int rc;
+    memset(&ev, 0, sizeof ev);
+    if (load(text, &s, e))
+        return -1;
+    rc = cr_frame_eval_at(&ev, &s, k, n, 24, 24, NULL, e);
+    if (rc == 0 && seen) {
+        int p;
+        *seen = 0;
+        for (p = 0; p < 24 * 24; p++) {
+            cr_pixel q = cr_trace_pixel(&ev.frame, p % 24, p / 24);
+            *seen += q.outcome == CR_OUT_SPHERE && q.object == 0;
+        }
+    }
+    cr_frame_eval_free(&ev);
+    cr_scene_free(&s);
+    return rc;
+}
+
+/* A moving sphere seen from inside r+ is refused, naming the sphere, the
+ * observer's r and r+: the ray's delay, and so the time at which it meets
+ * the sphere, is not defined there (it would never be seen). The same
+ * sphere at rest is accepted and seen from there (the refusal is the
+ * motion's only), and an observer falling in through r+ over an animation
+ * is refused in the first frame inside (r+ = 2 M; r = 40 -> 1.6 over 11
+ * frames: 40 - 3.84 k < 2 first at k = 10). */
+static void test_inside_horizon(void **state)
+{
+    static const char head[] = "metric: {m: 1, a: 0, q: 0}\n"
+                               "observer: {r: %s, theta: 90, phi: 0, hfov: 120, motion: "
+                               "infall}\n"
+                               "sphere:\n  color: [0, 0, 255]\n  resolution: [1, 1]\n"
+                               "  theta: 90\n  phi: 180\n  radius: 2\n  r: 8\n%s";
+    char text[1024];
+    cr_err e;
+    int seen = -1;
+    (void)state;
+    snprintf(text, sizeof text, head, "1.6", "  motion: orbit\n");
+    assert_int_not_equal(frame_of(text, 0, 1, &e, NULL), 0);
+    if (!strstr(e.msg, "sphere 0 (line 3): a moving sphere") ||
+        !strstr(e.msg, "(observer.r = 1.6 < r+ = 2)"))
+        fail_msg("unexpected message: %s", e.msg);
+    snprintf(text, sizeof text, head, "1.6", "  motion: rotating\n  omega: 0\n");
+    assert_int_not_equal(frame_of(text, 0, 1, &e, NULL), 0);
+    assert_non_null(strstr(e.msg, "observer.r = 1.6 < r+ = 2"));
+    /* at rest: accepted, and seen (the observer faces the hole, the
+       sphere at r = 8 beyond it; 20 of the 24 x 24 pixels) */
+    snprintf(text, sizeof text, head, "1.6", "");
+    if (frame_of(text, 0, 1, &e, &seen))
+        fail_msg("the static sphere was refused: %s", e.msg);
+    assert_true(seen > 0);
+    /* outside r+ the moving one is accepted */
+    snprintf(text, sizeof text, head, "2.1", "  motion: orbit\n");
+    if (frame_of(text, 0, 1, &e, NULL))
+        fail_msg("refused outside r+: %s", e.msg);
+    snprintf(text, sizeof text, head, "[linear, 40, 1.6]", "  motion: orbit\n");
+    assert_int_equal(frame_of(text, 9, 11, &e, NULL), 0);
+    assert_int_not_equal(frame_of(text, 10, 11, &e, NULL), 0);
+    assert_non_null(strstr(e.msg, "frame 10 of 11: sphere 0 (line 3): a moving sphere"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -426,6 +498,7 @@ int main(void)
         cmocka_unit_test(test_units),
         cmocka_unit_test(test_kerr_integrators),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_inside_horizon),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -760,6 +760,20 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     for (i = 0; i < s->n_spheres; i++)
         if (frame_sphere(s, k, n, i, &f->metric, &sphere_buf[i], err))
             return -1;
+    /* a moving sphere is met at t = t_obs - delay, and the delay of a ray
+       from inside r+ is not defined (ray.h, cr_ray_delay: BL t is no
+       coordinate there and not followed through r+) */
+    if (!s->obs_at_infinity && f->observer.r < cr_metric_r_plus(&f->metric))
+        for (i = 0; i < s->n_spheres; i++)
+            if (sphere_buf[i].moving)
+                return frame_fail(err, s, k, n,
+                                  "sphere %d (line %d): a moving sphere is seen with the "
+                                  "light's travel time from the observer's BL time, which "
+                                  "does not exist inside the event horizon (observer.r = %g < "
+                                  "r+ = %g): it would never be seen; put the observer outside "
+                                  "r+, or the sphere at rest (no motion)",
+                                  i, s->spheres[i].line, f->observer.r,
+                                  cr_metric_r_plus(&f->metric));
     f->spheres = s->n_spheres > 0 ? sphere_buf : NULL;
     f->n_spheres = s->n_spheres;
     if (s->has_sky) {

@@ -127,4 +127,19 @@ $S
   r: 1.8
   motion: rotating
   omega: 0"
+refuse "seen from inside the horizon" "sphere 0 (line 3): a moving sphere is seen with the light's travel time from the observer's BL time, which does not exist inside the event horizon (observer.r = 1.2 < r+ = 1.43589)" "metric: {m: 1, a: 0.9, q: 0}
+observer: {r: 1.2, theta: 60, phi: 0, hfov: 90, motion: infall}
+$S
+  r: 8
+  motion: orbit"
+# falling in through r+ over the frames: refused before frame 0 is written
+printf '%s\n' "metric: {m: 1, a: 0.9, q: 0}
+observer: {r: [linear, 12, 1.2], theta: 60, phi: 0, hfov: 90, motion: infall}
+$S
+  r: 8
+  motion: orbit" > fall.yml
+run -s fall.yml -o fall -x 16 -y 16 -f 3 -t cl -a true
+if [ $RC = 1 ] && has "frame 2 of 3: sphere 0 (line 3): a moving sphere" && [ ! -e fall ]; then
+    ok "falling in through r+: refused, nothing written"
+else bad "falling in through r+" "rc $RC"; fi
 finish
