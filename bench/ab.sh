@@ -44,7 +44,6 @@ one() { # BIN SCENE OUT -> "cpu_s"
         -t i -a true -q true --backend cpu --threads 1 || die "$bin failed on $scene (see $o/time.log)"
     awk '{printf "%.6f\n", $2 + $3}' "$o/time"
 }
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : 0.5 * (v[NR / 2] + v[NR / 2 + 1])}'; }
 
 echo "| scene | ${w}x${h} | A CPU s | B CPU s | B / A | A steps | B steps | A ns/step | B ns/step |"
 echo "|---|---|---|---|---|---|---|---|---|"
@@ -58,7 +57,7 @@ for s in "${scenes[@]}"; do
             one "$bin" "$s" "$work/$n-$x-run" >>"$work/$n-$x"
         done
     done
-    ta=$(median <"$work/$n-A") tb=$(median <"$work/$n-B")
+    ta=$(bench_median <"$work/$n-A") tb=$(bench_median <"$work/$n-B")
     sa=$(bench_info_value "$work/$n-A-run/info.txt" steps)
     sb=$(bench_info_value "$work/$n-B-run/info.txt" steps)
     awk -v n="$n" -v ta="$ta" -v tb="$tb" -v sa="$sa" -v sb="$sb" -v sz="${w}x${h}" 'BEGIN {

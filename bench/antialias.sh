@@ -9,31 +9,19 @@
 #   defaults: 3 runs, 320x240, curray's default threads
 # Environment: CURRAY_BIN (default build-aa/curray, else build/curray).
 set -euo pipefail
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-root=$(dirname "$here")
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+here=$BENCH_DIR root=$REPO_DIR
 runs=3 size=320x240 threads=""
-while [ $# -gt 0 ]; do
-    case $1 in
-    --runs) runs=$2; shift 2 ;;
-    --size) size=$2; shift 2 ;;
-    --threads) threads=$2; shift 2 ;;
-    -h | --help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "antialias.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
-bin=${CURRAY_BIN:-}
-[ -n "$bin" ] || for b in "$root/build-aa/curray" "$root/build/curray"; do [ -x "$b" ] && bin=$b && break; done
-[ -x "$bin" ] || { echo "antialias.sh: no curray binary (set CURRAY_BIN)" >&2; exit 1; }
-w=${size%x*} h=${size#*x}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+bench_args antialias.sh 11 "$@"
+bench_bin antialias.sh "$root/build-aa/curray" "$root/build/curray"
+bench_tmpdir
 for n in 1 2 3; do printf 'raytracer: {samples: %d}\n' "$n" >"$tmp/c$n.yml"; done
 for r in $(seq "$runs"); do
     for n in 1 2 3; do
         rm -rf "$tmp/o$n"
         python3 "$here/timecmd.py" "$tmp/t$n.$r" -- "$bin" -s "$root/scenes/demo.yml" \
             -c "$tmp/c$n.yml" -o "$tmp/o$n" -x "$w" -y "$h" -t ci -a true --backend cpu ${threads:+--threads "$threads"}
-        steps=$(awk '$1 == "integrator" && $2 == "steps" {print $3; exit}' "$tmp/o$n/info.txt")
+        steps=$(bench_info_steps "$tmp/o$n")
         echo "$(cat "$tmp/t$n.$r") $steps" >>"$tmp/all$n"
     done
 done

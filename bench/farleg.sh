@@ -41,7 +41,7 @@ sed '/boundary:/d' "$REPO_DIR/scenes/grid-sky-kerr.yml" >"$work/grid-sky-kerr-in
 cp "$REPO_DIR/scenes/sky_grid.png" "$work/"
 w=${size%x*} h=${size#*x}
 {
-    echo "Machine: $(uname -m) $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); load $(cut -d' ' -f1-3 /proc/loadavg); $(git -C "$REPO_DIR" rev-parse --short HEAD)"
+    echo "Machine: $(uname -m) $(bench_cores_model); load $(load3); $(git -C "$REPO_DIR" rev-parse --short HEAD)"
     echo "(grid-sky-kerr-infinity.yml: scenes/grid-sky-kerr.yml without its 'boundary:' line)"
     for sc in "$work/grid-sky-kerr-infinity.yml" "$REPO_DIR/scenes/grid-sky-kerr.yml" \
         "$REPO_DIR/scenes/listing-7.1.2-starry-sky.yml"; do

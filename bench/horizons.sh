@@ -13,23 +13,12 @@
 #   defaults: 3 runs, 320x180, curray's default threads
 # Environment: CURRAY_BIN (default build/curray).
 set -euo pipefail
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-root=$(dirname "$here")
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+here=$BENCH_DIR root=$REPO_DIR
 runs=3 size=320x180 threads=""
-while [ $# -gt 0 ]; do
-    case $1 in
-    --runs) runs=$2; shift 2 ;;
-    --size) size=$2; shift 2 ;;
-    --threads) threads=$2; shift 2 ;;
-    -h | --help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "horizons.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
-bin=${CURRAY_BIN:-$root/build/curray}
-[ -x "$bin" ] || { echo "horizons.sh: no curray binary (set CURRAY_BIN)" >&2; exit 1; }
-w=${size%x*} h=${size#*x}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+bench_args horizons.sh 15 "$@"
+bench_bin horizons.sh "$root/build/curray"
+bench_tmpdir
 cases="schwarzschild:3 schwarzschild:1 schwarzschild:0.3 kerr:3 kerr:1 kerr:0.15
        reissner-nordstrom:3 reissner-nordstrom:1 reissner-nordstrom:0.35"
 for c in $cases; do
@@ -43,8 +32,8 @@ for k in $(seq "$runs"); do
         rm -rf "$o"
         python3 "$here/timecmd.py" "$tmp/t-$hole-$r.$k" -- "$bin" -s "$tmp/$hole-$r.yml" -o "$o" \
             -x "$w" -y "$h" -t ci -a true --backend cpu ${threads:+--threads "$threads"}
-        steps=$(awk '$1 == "integrator" && $2 == "steps" {print $3; exit}' "$o/info.txt")
-        rays=$(awk '$1 == "rays" {print $2; exit}' "$o/info.txt")
+        steps=$(bench_info_steps "$o")
+        rays=$(bench_info_rays "$o")
         echo "$(cat "$tmp/t-$hole-$r.$k") $steps $rays" >>"$tmp/all-$hole-$r"
     done
 done

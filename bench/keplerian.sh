@@ -14,23 +14,12 @@
 #   defaults: 7 runs, 640x360, curray's default threads
 # Environment: CURRAY_BIN (binary; default build/curray).
 set -euo pipefail
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-root=$(dirname "$here")
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+here=$BENCH_DIR root=$REPO_DIR
 runs=7 size=640x360 threads=""
-while [ $# -gt 0 ]; do
-    case $1 in
-    --runs) runs=$2; shift 2 ;;
-    --size) size=$2; shift 2 ;;
-    --threads) threads=$2; shift 2 ;;
-    -h | --help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "keplerian.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
-bin=${CURRAY_BIN:-$root/build/curray}
-[ -x "$bin" ] || { echo "keplerian.sh: no curray binary at $bin (set CURRAY_BIN)" >&2; exit 1; }
-w=${size%x*} h=${size#*x}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+bench_args keplerian.sh 13 "$@"
+bench_bin keplerian.sh "$root/build/curray"
+bench_tmpdir
 kep="$root/scenes/keplerian-interstellar.yml"
 # the chessboard twin: same scene, accretion from the ISCO (info.txt) to 20
 "$bin" -s "$kep" -o "$tmp/probe" -x 8 -y 8 -t i -a true -q true
@@ -44,7 +33,7 @@ one() { # name run
     rm -rf "$tmp/o$1"
     python3 "$here/timecmd.py" "$tmp/t$1.$2" -- "$bin" -s "$tmp/$1.yml" -o "$tmp/o$1" \
         -x "$w" -y "$h" -t ci -a true --backend cpu ${threads:+--threads "$threads"}
-    steps=$(awk '$1 == "integrator" && $2 == "steps" {print $3; exit}' "$tmp/o$1/info.txt")
+    steps=$(bench_info_steps "$tmp/o$1")
     frame=$(awk '$1 == "wall" && $2 == "time" {print $3; exit}' "$tmp/o$1/info.txt")
     echo "$2 $(cat "$tmp/t$1.$2") $steps $frame" >>"$tmp/all-$1"
 }

@@ -1,4 +1,6 @@
-# bench/lib.sh: shared helpers of bench/run.sh and bench/scaling.sh (sourced, not run).
+# bench/lib.sh: shared helpers of the bench scripts (sourced, not run): run.sh, scaling.sh,
+# ab.sh, farleg.sh, kerrz*.sh, mino.sh, packets.sh, mpi.sh, web.sh and the interleaved
+# comparisons antialias.sh, horizons.sh, keplerian.sh, matter.sh, observer.sh.
 # Timings only; nothing here is a test.
 
 BENCH_DIR=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -237,3 +239,64 @@ bench_kerrz_scene() { # SRC DST A N
     grep -q "hextent: $ext" "$2" && grep -q "vextent: $ext" "$2" ||
         die "could not set the image extents in $2"
 }
+
+# --- the interleaved comparison scripts (antialias, horizons, keplerian,
+# matter, observer): their common preamble ------------------------------------
+
+# bench_args NAME HELP_LAST ARGS...: parse --runs R, --size WxH, --threads T
+# into runs, size and threads (the caller sets their defaults first), the
+# options BENCH_OPTS names ("--option=variable ...", each taking a value)
+# into those variables, and -h/--help (print lines 2 to HELP_LAST of the
+# script's header comment, exit 0); anything else: "NAME: unknown option",
+# exit 2. Then w and h from size.
+bench_args() {
+    local name=$1 last=$2 o v
+    shift 2
+    while [ $# -gt 0 ]; do
+        case $1 in
+        --runs) runs=$2; shift 2 ;;
+        --size) size=$2; shift 2 ;;
+        --threads) threads=$2; shift 2 ;;
+        -h | --help) sed -n "2,${last}p" "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        *)
+            v=""
+            for o in ${BENCH_OPTS:-}; do [ "$1" = "${o%%=*}" ] && v=${o#*=}; done
+            [ -n "$v" ] || { echo "$name: unknown option '$1'" >&2; exit 2; }
+            printf -v "$v" '%s' "$2"
+            shift 2 ;;
+        esac
+    done
+    w=${size%x*} h=${size#*x}
+}
+
+# bench_bin NAME CANDIDATE...: bin = CURRAY_BIN, else the first executable
+# candidate; exit 1 with "NAME: no curray binary (set CURRAY_BIN)" when that
+# is not an executable.
+bench_bin() {
+    local name=$1 b
+    shift
+    bin=${CURRAY_BIN:-}
+    if [ -z "$bin" ]; then
+        for b in "$@"; do [ -x "$b" ] && bin=$b && break; done
+    fi
+    [ -x "$bin" ] || { echo "$name: no curray binary (set CURRAY_BIN)" >&2; exit 1; }
+}
+
+# bench_tmpdir: tmp = a fresh folder, removed when the script exits.
+bench_tmpdir() {
+    tmp=$(mktemp -d)
+    trap 'rm -rf "$tmp"' EXIT
+}
+
+# bench_info_steps DIR, bench_info_rays DIR: the integrator steps and the
+# rays of DIR/info.txt (its "integrator steps N" and "rays N" lines).
+bench_info_steps() { awk '$1 == "integrator" && $2 == "steps" {print $3; exit}' "$1/info.txt"; }
+bench_info_rays() { awk '$1 == "rays" {print $2; exit}' "$1/info.txt"; }
+
+# The machine for a report's header: "N cores, <CPU model>", and the load
+# averages "L1 L5 L15".
+bench_cores_model() { echo "$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"; }
+load3() { cut -d' ' -f1-3 /proc/loadavg; }
+
+# bench_median: the median of the numbers on stdin, one a line.
+bench_median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : 0.5 * (v[NR / 2] + v[NR / 2 + 1])}'; }

@@ -13,23 +13,12 @@
 #   defaults: 5 runs, 320x320, curray's default threads
 # Environment: CURRAY_BIN (default build/curray).
 set -euo pipefail
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-root=$(dirname "$here")
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+here=$BENCH_DIR root=$REPO_DIR
 runs=5 size=320x320 threads=""
-while [ $# -gt 0 ]; do
-    case $1 in
-    --runs) runs=$2; shift 2 ;;
-    --size) size=$2; shift 2 ;;
-    --threads) threads=$2; shift 2 ;;
-    -h | --help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "matter.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
-bin=${CURRAY_BIN:-$root/build/curray}
-[ -x "$bin" ] || { echo "matter.sh: no curray binary (set CURRAY_BIN)" >&2; exit 1; }
-w=${size%x*} h=${size#*x}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+bench_args matter.sh 14 "$@"
+bench_bin matter.sh "$root/build/curray"
+bench_tmpdir
 src=$root/scenes/hot-spot-isco.yml
 # frame 7 of the orbit: observer.t = 7 dt, one frame
 dt=$(awk '$1 == "dt:" {print $2}' "$src")
@@ -54,8 +43,8 @@ for k in $(seq "$runs"); do
         rm -rf "$o"
         python3 "$here/timecmd.py" "$tmp/t-$c.$k" -- "$bin" -s "$tmp/$c.yml" -o "$o" \
             -x "$w" -y "$h" -t id -a true --backend cpu ${threads:+--threads "$threads"}
-        steps=$(awk '$1 == "integrator" && $2 == "steps" {print $3; exit}' "$o/info.txt")
-        rays=$(awk '$1 == "rays" {print $2; exit}' "$o/info.txt")
+        steps=$(bench_info_steps "$o")
+        rays=$(bench_info_rays "$o")
         sph=$(awk -F, '$10 == "sphere"' "$o/d_0.csv" | wc -l)
         echo "$(cat "$tmp/t-$c.$k") $steps $rays $sph" >>"$tmp/all-$c"
     done

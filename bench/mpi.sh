@@ -15,7 +15,8 @@
 # Usage: bench/mpi.sh [--runs N] [--size WxH] [--frames F] [--build DIR]
 #   defaults: --runs 3 --size 320x240 --frames 8 --build build
 set -euo pipefail
-root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+root=$REPO_DIR
 runs=3 size=320x240 frames=8 build=$root/build
 while [ $# -gt 0 ]; do
     case $1 in
@@ -58,18 +59,17 @@ run() {
 }
 : >"$work/times"
 : >"$work/gather"
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "machine: $(bench_cores_model); load $(load3)"
 echo "animation: $frames frames of ${w}x$h; one frame: $((2 * w))x$((2 * h)); scene listing 7.1.6; $runs runs each"
 for ((r = 0; r < runs; r++)); do
     for kind in anim one; do
         for c in P1 M1 M2 T2; do run $c $kind; done
     done
 done
-median() { sort -n | awk '{ v[NR] = $1 } END { print (NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2) }'; }
 for kind in anim one; do
     declare -A m=()
     for c in P1 M1 M2 T2; do
-        m[$c]=$(awk -v k=$kind -v c=$c '$1 == k && $2 == c { print $3 }' "$work/times" | median)
+        m[$c]=$(awk -v k=$kind -v c=$c '$1 == k && $2 == c { print $3 }' "$work/times" | bench_median)
     done
     printf '%-5s P1 %7.3f s  M1 %7.3f s  M2 %7.3f s  T2 %7.3f s   P1/M2 %.2f  M1/M2 %.2f  T2/M2 %.2f\n' \
         "$kind" "${m[P1]}" "${m[M1]}" "${m[M2]}" "${m[T2]}" \

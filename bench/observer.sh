@@ -17,26 +17,12 @@
 #   defaults: 5 runs, 320x240, curray's default threads, rectilinear, cpu
 # Environment: CURRAY_BIN (default build-h13/curray, else build/curray).
 set -euo pipefail
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-root=$(dirname "$here")
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+here=$BENCH_DIR root=$REPO_DIR
 runs=5 size=320x240 threads="" proj=rectilinear backend=cpu
-while [ $# -gt 0 ]; do
-    case $1 in
-    --runs) runs=$2; shift 2 ;;
-    --size) size=$2; shift 2 ;;
-    --threads) threads=$2; shift 2 ;;
-    --projection) proj=$2; shift 2 ;;
-    --backend) backend=$2; shift 2 ;;
-    -h | --help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "observer.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
-bin=${CURRAY_BIN:-}
-[ -n "$bin" ] || for b in "$root/build-h13/curray" "$root/build/curray"; do [ -x "$b" ] && bin=$b && break; done
-[ -x "$bin" ] || { echo "observer.sh: no curray binary (set CURRAY_BIN)" >&2; exit 1; }
-w=${size%x*} h=${size#*x}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+BENCH_OPTS="--projection=proj --backend=backend" bench_args observer.sh 19 "$@"
+bench_bin observer.sh "$root/build-h13/curray" "$root/build/curray"
+bench_tmpdir
 motions=(static zamo orbit infall velocity)
 case $proj in
 rectilinear) view="hfov: 70" ;;
@@ -60,7 +46,7 @@ for r in $(seq "$runs"); do
         rm -rf "$tmp/o-$m"
         python3 "$here/timecmd.py" "$tmp/t-$m.$r" -- "$bin" -s "$tmp/$m.yml" -o "$tmp/o-$m" \
             -x "$w" -y "$h" -t ci -a true --backend "$backend" ${threads:+--threads "$threads"}
-        steps=$(awk '$1 == "integrator" && $2 == "steps" {print $3; exit}' "$tmp/o-$m/info.txt")
+        steps=$(bench_info_steps "$tmp/o-$m")
         echo "$(cat "$tmp/t-$m.$r") $steps" >>"$tmp/all-$m"
     done
 done

@@ -14,6 +14,7 @@
 # bench/web_page.py's.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. bench/lib.sh
 build=${1:-build} rounds=${2:-3} W=${3:-320} H=${4:-180}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
@@ -44,7 +45,7 @@ run() {
     emcc-*) node --no-experimental-fetch "$out/$1.js" "$2" "$W" "$H" 3 ;;
   esac
 }
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "machine: $(bench_cores_model); load $(load3)"
 echo "node $(node --version), $(clang --version | head -1), $(gcc --version | head -1)"
 for scene in demo kerr; do
   for r in $(seq "$rounds"); do
@@ -88,4 +89,4 @@ for v in $variants; do
     awk -v v="$v" '{w[NR] = $1; c[NR] = $2} END {m = int((NR + 1) / 2);
       printf "%-12s %10.1f %10s\n", v, w[m], v ~ /^emcc/ ? "-" : sprintf("%.1f", c[m])}'
 done
-echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "load after: $(load3)"
