@@ -907,6 +907,29 @@ static void test_darwin_disc_radius(void **state)
 
 /* ---- 4. the shadow seen from infinity ------------------------------------ */
 
+/* The step-size controller's contract (mino_lane.h): the factor is
+ * 0.9 err^(-1/4) clamped to [0.2, 5], and a try whose error estimate is not
+ * a number (a stage that left the domain, e.g. inside the horizon's 1/D) is
+ * rejected and retried 0.2 times as long, never continued with a NaN step. */
+static void test_step_controller(void **state)
+{
+    double h, h_next;
+    (void)state;
+    assert_true(fabs(cr_dp5_factor(1.0) - 0.9) <= 1e-15);
+    assert_true(fabs(cr_dp5_factor(0.01) - 0.9 / sqrt(0.1)) <= 1e-14);
+    assert_true(cr_dp5_factor(1e-12) == 5.0);
+    assert_true(cr_dp5_factor(1e6) == 0.2);
+    assert_true(cr_dp5_factor(NAN) == 0.2);
+    h = 0.5;
+    h_next = 7.0;
+    assert_false(cr_dp5_control(NAN, 0, &h, &h_next));
+    assert_true(fabs(h - 0.1) <= 1e-15);
+    assert_true(h_next == 7.0);
+    h = 0.5;
+    assert_true(cr_dp5_control(0.01, 1, &h, &h_next)); /* accepted after a retry: not grown */
+    assert_true(h == 0.5 && h_next == 0.5);
+}
+
 static void test_shadow_from_infinity(void **state)
 {
     const double qs[2] = {0.0, 0.6}, incl[3] = {0.0, 45.0, 90.0};
@@ -966,6 +989,7 @@ int main(void)
         cmocka_unit_test(test_darwin_functions),
         cmocka_unit_test(test_darwin_disc_radius),
         cmocka_unit_test(test_shadow_from_infinity),
+        cmocka_unit_test(test_step_controller),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
