@@ -15,6 +15,7 @@
 
 #include "../base/error.h"
 #include "core/particle.h"
+#include "yamlutil.h"
 
 /* The optional view section of an orbit file: the picture that
  * `curray orbit -t c` draws (docs/scenes.md, "The lensed picture"). */
@@ -64,6 +65,17 @@ typedef struct cr_particle_spec {
 int cr_particle_spec_load(const char *path, cr_particle_spec *s, cr_err *err);
 int cr_particle_spec_load_string(const char *text, size_t len, const char *name,
                                  cr_particle_spec *s, cr_err *err);
+
+/* Parse and check one particle section: map (under key node key; NULL
+ * when it has none) on the metric s->mt (the caller zeroes *s and sets
+ * s->mt first; s->view is left alone). pre names the section in
+ * messages ("particle" in an orbit file, "sphere[0].particle" in a scene:
+ * "FILE:LINE:COL: pre.KEY: ..."). for_sphere: the section of a sphere's
+ * motion: particle (docs/scenes.md), where dtau, an orbit file's output
+ * spacing, is refused. The same checks as the loader: a spec it accepts
+ * always starts (cr_particle_spec_start). */
+int cr_particle_spec_parse(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *pre,
+                           int for_sphere, cr_particle_spec *s, cr_err *err);
 
 /* Start the particle of a loaded spec. Returns 1 (0 only for a spec that
  * did not come from the loader). */
