@@ -1579,7 +1579,7 @@ static void test_errors_values(void **state)
               "radius: 1, colour: [1, 1, 1]}\n",
          "scene.yml:10:85: unknown key 'colour' in sphere[0]",
          "(expected one of: color, resolution, r, theta, phi, roll, pitch, yaw, radius, motion, "
-         "retrograde, omega)"},
+         "retrograde, omega, particle)"},
         {BASE "sphere: {color: [1, 2, 3], resolution: [4, 8], r: 10, theta: 90, phi: 0, "
               "radius: 1, r: 2}\n",
          "scene.yml:10:85: sphere[0].r: ", "duplicate key 'r' (first given at line 10, column "

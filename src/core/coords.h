@@ -32,6 +32,31 @@ CR_HD static inline void cr_bl_vel_to_cart(double a, double r, double th, double
     v[2] = ct * ur - r * st * uth;
 }
 
+/* The inverse: BL rates (dr, dth, dph) of Cartesian velocity v at the
+ * point x = (2.2.8) of (r, th): from d(x^2 + y^2) = 2 (r sin^2 dr + (r^2 +
+ * a^2) sin cos dth) and dz = cos dr - r sin dth, dr = (r q + (r^2 + a^2)
+ * cos v_z) / Sigma and dth = (cos q - r sin^2 v_z) / (sin Sigma), q = x v_x
+ * + y v_y; dph = (x v_y - y v_x) / (x^2 + y^2). On the axis (sin th = 0)
+ * dph is 0 and dth takes the speed across it, |(v_x, v_y)| / sqrt(r^2 +
+ * a^2), its sign that of cos th (away from the pole). */
+CR_HD static inline void cr_cart_vel_to_bl(double a, double r, double th, const double x[3],
+                                           const double v[3], double *dr, double *dth,
+                                           double *dph)
+{
+    double st = sin(th), ct = cos(th), sigma = r * r + a * a * ct * ct;
+    double q = x[0] * v[0] + x[1] * v[1], rho2 = x[0] * x[0] + x[1] * x[1];
+    *dr = (r * q + (r * r + a * a) * ct * v[2]) / sigma;
+    if (st > 0.0 && rho2 > 0.0) {
+        *dth = (ct * q - r * st * st * v[2]) / (st * sigma);
+        *dph = (x[0] * v[1] - x[1] * v[0]) / rho2;
+    } else {
+        *dth = sqrt(v[0] * v[0] + v[1] * v[1]) / sqrt(r * r + a * a);
+        if (ct < 0.0)
+            *dth = -*dth;
+        *dph = 0.0;
+    }
+}
+
 /* Rotate v (3 components) by angle ang about the unit axis k (right-hand
  * rule, Rodrigues' formula). */
 CR_HD static inline void cr_rotate(double v[3], const double k[3], double ang)

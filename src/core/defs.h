@@ -168,10 +168,31 @@ typedef struct cr_sphere {
      * angular velocity for motion: orbit, 0 for a sphere at rest that is
      * still traced with the light's travel time): at BL coordinate time t it
      * is the sphere above (its phi the phase at t = 0) turned by omega t
-     * about the polar axis. */
+     * about the polar axis.
+     * particle = 1 (moving = 1, omega = 0): the sphere's centre moves on a
+     * worldline tabulated in coordinate time (track.h): samples
+     * track_off .. track_off + track_n - 1 of cr_frame.track, at BL times
+     * track_t0 + i track_h; the sphere above is its place at track_t0
+     * (centre at sample 0, azimuth ph0 there), carried with the centre and
+     * turned about the polar axis by the centre's azimuth since. reach_lo,
+     * reach_hi bound the distance |x| of its points from the origin and
+     * z_lo, z_hi their z, at every time (sphere.h, cr_sphere_far). */
     int moving;
     double omega;
+    int particle;
+    int track_n;
+    long track_off;
+    double track_t0, track_h, ph0;
+    double reach_lo, reach_hi, z_lo, z_hi;
 } cr_sphere;
+
+/* One sample of a tabulated worldline (track.h): the Cartesian position x
+ * (2.2.8) of the particle and its continuous BL azimuth ph, with their
+ * coordinate-time rates v = dx/dt and w = dph/dt (from u^mu / u^t). */
+typedef struct cr_track_point {
+    double x[3], ph;
+    double v[3], w;
+} cr_track_point;
 
 /* An equirectangular sky texture, rgb[3 * (y * width + x)], row y = 0 at the
  * sky's theta = 0 (6.10.1). The pointer is host or device memory, matching
@@ -234,7 +255,8 @@ typedef enum cr_simd_mode {
 #define CR_MAX_SAMPLES 16
 
 /* Everything needed to trace every pixel of one frame: plain data, no
- * pointers but the sphere array and the sky texture (both read-only).
+ * pointers but the sphere array, the worldline table and the sky texture
+ * (all read-only).
  * Filled by the scene module for frame k, then completed by
  * cr_frame_prepare (frame.h), which derives the fields marked "derived". */
 typedef struct cr_frame {
@@ -243,6 +265,10 @@ typedef struct cr_frame {
     cr_disc disc;
     const cr_sphere *spheres;
     int n_spheres;
+    const cr_track_point *track; /* the worldline samples of particle spheres
+                                    (cr_sphere.particle), n_track in all; host
+                                    or device memory as the sky texture */
+    long n_track;
     cr_sky sky;          /* sky.rgb == NULL: plain sky_color */
     double sky_boundary; /* R of 6.10; 0 when unset */
     cr_rgb sky_color, horizon_color, error_color;

@@ -9,6 +9,7 @@
 #include "pattern.h"
 #include "ray.h"
 #include "shift.h"
+#include "track.h"
 
 /* Derive the sphere's Cartesian centre and orientation. Its local axes start
  * as the paper's x = e_r, y = e_th, z = e_ph at the centre's (theta, phi) and
@@ -75,7 +76,17 @@ CR_HD static inline cr_rgb cr_sphere_color(const cr_sphere *s, const double x[3]
  * fraction s of a step is at BL time t = t_obs - cr_ray_delay_at(ray, s, y)
  * (the ray's own coordinate time), and the sphere is looked for there in
  * its own coordinates (cr_sphere_unturn: the point turned back by
- * -omega t), where it is the static prepared sphere. */
+ * -omega t), where it is the static prepared sphere.
+ *
+ * A particle sphere (cr_sphere.particle) is carried by its centre along a
+ * tabulated worldline (track.h; omega = 0): at time t its centre is the
+ * table's c(t), and it is the prepared sphere (centre c0 = the start's,
+ * azimuth ph0) moved to c(t) and turned about the polar axis by the
+ * centre's azimuth since the start, ph(t) - ph0 (for a circular orbit, the
+ * rigid turn of motion: orbit). Its matter at point x moves with the
+ * coordinate velocity of that rigid motion, dx/dt = dc/dt + dph/dt z^ x
+ * (x - c) (the centre's u^mu at the centre), normalised there
+ * (cr_sphere_particle_u). Outside the table's times there is no sphere. */
 
 /* Largest angle (rad) a moving sphere turns through over one piece of a
  * step in which its hits are looked for (cr_sphere_turning): in each piece
@@ -163,6 +174,71 @@ CR_HD static inline void cr_sphere_unturn(const cr_sphere *s, double t, const do
     xl[2] = x[2];
 }
 
+/* The place of particle sphere sp at BL time t: centre c, turn angle *ang
+ * = ph(t) - ph0, and their rates dc/dt, *w = dph/dt (track.h). Returns 0
+ * outside the table's times (no sphere then), else 1. */
+CR_HD static inline int cr_sphere_pose(const cr_frame *f, const cr_sphere *sp, double t,
+                                       double c[3], double *ang, double dc[3], double *w)
+{
+    if (!cr_track_at(f->track + sp->track_off, sp->track_n, sp->track_t0, sp->track_h, t, c,
+                     ang, dc, w))
+        return 0;
+    *ang -= sp->ph0;
+    return 1;
+}
+
+/* Cartesian point x at BL time t in moving sphere sp's own coordinates:
+ * cr_sphere_unturn for a turning one; for a particle sphere x taken back by
+ * its pose (cr_sphere_pose), R_z(-ang) (x - c) + c0. Returns 0 where a
+ * particle sphere has no place at t, else 1. */
+CR_HD static inline int cr_sphere_local_at(const cr_frame *f, const cr_sphere *sp, double t,
+                                           const double x[3], double xl[3])
+{
+    double c[3], dc[3], ang, w, d[3], cs, sn;
+    if (!sp->particle) {
+        cr_sphere_unturn(sp, t, x, xl);
+        return 1;
+    }
+    if (!cr_sphere_pose(f, sp, t, c, &ang, dc, &w))
+        return 0;
+    cs = cos(ang);
+    sn = sin(ang);
+    d[0] = x[0] - c[0];
+    d[1] = x[1] - c[1];
+    d[2] = x[2] - c[2];
+    xl[0] = cs * d[0] + sn * d[1] + sp->center[0];
+    xl[1] = cs * d[1] - sn * d[0] + sp->center[1];
+    xl[2] = d[2] + sp->center[2];
+    return 1;
+}
+
+/* How far particle sphere sp moves between BL times ta and tb, as an angle
+ * (compared with CR_SPHERE_MAX_TURN): the larger of its turn and its
+ * centre's displacement over the larger of |c| and its radius; 0 where
+ * both times lie on one side outside its table (no sphere in between: t is
+ * monotonic along a ray outside the horizon), INFINITY where one of them
+ * is outside and the other inside or beyond it (the piece is halved to
+ * find the table's end). */
+CR_HD static inline double cr_sphere_moved(const cr_frame *f, const cr_sphere *sp, double ta,
+                                           double tb)
+{
+    double ca[3], cb[3], da[3], db[3], aa, ab, wa, wb, t_end, d2 = 0.0, c2 = 0.0;
+    int ia = cr_sphere_pose(f, sp, ta, ca, &aa, da, &wa);
+    int ib = cr_sphere_pose(f, sp, tb, cb, &ab, db, &wb), k;
+    if (!ia || !ib) {
+        t_end = sp->track_t0 + (double)(sp->track_n - 1) * sp->track_h;
+        if ((ta < sp->track_t0 && tb < sp->track_t0) || (ta > t_end && tb > t_end) ||
+            !cr_isfinite(ta) || !cr_isfinite(tb))
+            return 0.0;
+        return INFINITY;
+    }
+    for (k = 0; k < 3; k++) {
+        d2 += (cb[k] - ca[k]) * (cb[k] - ca[k]);
+        c2 += ca[k] * ca[k];
+    }
+    return fmax(fabs(ab - aa), sqrt(d2) / fmax(sqrt(c2), sp->radius));
+}
+
 /* BL time t_obs - delay of the ray's state y at fraction s of its current
  * step (NaN where the ray has no BL time: cr_ray_delay). */
 CR_HD static inline double cr_sphere_ray_time(const cr_frame *f, const cr_ray *ray, double s,
@@ -175,9 +251,10 @@ CR_HD static inline double cr_sphere_ray_time(const cr_frame *f, const cr_ray *r
 }
 
 /* The point of state y (fraction s of the current step) in sphere k's own
- * coordinates: its Cartesian position, turned back for a moving sphere by
- * the sphere's turn at the state's time. Returns 0 where a moving sphere
- * has no time there (no hit can be there), else 1. */
+ * coordinates: its Cartesian position, taken back for a moving sphere by
+ * the sphere's motion at the state's time (cr_sphere_local_at). Returns 0
+ * where a moving sphere has no time there, or a particle sphere no place
+ * (no hit can be there), else 1. */
 CR_HD static inline int cr_sphere_local(const cr_frame *f, const cr_ray *ray, int k, double s,
                                         const double *y, double xl[3])
 {
@@ -193,8 +270,7 @@ CR_HD static inline int cr_sphere_local(const cr_frame *f, const cr_ray *ray, in
     t = cr_sphere_ray_time(f, ray, s, y);
     if (!cr_isfinite(t))
         return 0;
-    cr_sphere_unturn(sp, t, x, xl);
-    return 1;
+    return cr_sphere_local_at(f, sp, t, x, xl);
 }
 
 /* Value of sphere k's surface function (cr_sphere_f) at state y, fraction
@@ -326,7 +402,9 @@ CR_HD static inline double cr_sphere_piece(const cr_frame *f, const cr_ray *ray,
  * about the origin that holds the sphere at every time, or beyond the slab
  * |z - c_z| <= R, by a quarter of its length under Mino (cr_sphere_piece's
  * slack); or the piece starts and ends inside the sphere's smallest BL
- * radius, sqrt((|c| - R)^2 - a^2) (|x|^2 = r^2 + a^2 sin^2 theta <= r^2 +
+ * radius, sqrt((|c| - R)^2 - a^2) (for a particle sphere the ball, slab and
+ * radius of its bounds over the table: reach_hi, z_lo .. z_hi, reach_lo)
+ * (|x|^2 = r^2 + a^2 sin^2 theta <= r^2 +
  * a^2), moving inward at both ends: leaving that radius and coming back
  * within it would take two radial turning points, which light outside
  * the horizon never has (it has no bound orbits there). */
@@ -339,15 +417,21 @@ CR_HD static inline int cr_sphere_far(const cr_frame *f, const cr_ray *ray, int 
     double d[3], dd = 0.0, xd = 0.0, t, dist2 = 0.0, slack;
     double cn = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), rho = cn + sp->radius;
     double lo = cn - sp->radius, a = f->metric.a;
+    double z_hi = c[2] + sp->radius, z_lo = c[2] - sp->radius;
     int i;
+    if (sp->particle) {
+        rho = sp->reach_hi;
+        lo = sp->reach_lo;
+        z_hi = sp->z_hi;
+        z_lo = sp->z_lo;
+    }
     for (i = 0; i < 3; i++) {
         d[i] = x1[i] - x0[i];
         dd += d[i] * d[i];
         xd += x0[i] * d[i];
     }
     slack = cr_ray_long_steps(ray) ? 0.25 * sqrt(dd) : 0.0;
-    if (fmin(x0[2], x1[2]) > c[2] + sp->radius + slack ||
-        fmax(x0[2], x1[2]) < c[2] - sp->radius - slack)
+    if (fmin(x0[2], x1[2]) > z_hi + slack || fmax(x0[2], x1[2]) < z_lo - slack)
         return 1;
     t = dd > 0.0 ? -xd / dd : 0.0;
     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
@@ -376,14 +460,17 @@ CR_HD static inline int cr_sphere_far(const cr_frame *f, const cr_ray *ray, int 
 #define CR_SPHERE_MAX_PIECES 64
 #define CR_SPHERE_MAX_HALVINGS 8
 
-/* The earliest hit before best of turning sphere k (omega != 0) within the
- * current step (x0, x1 the world Cartesian positions at its ends), or 2.
- * The step is walked in pieces from its start: a piece that cr_sphere_far
- * rules out is passed over whole; one that may meet the sphere is halved
- * until the sphere turns by at most CR_SPHERE_MAX_TURN over it (judged on the
- * dense output's own T) and looked at as a static sphere is over a step
- * (cr_sphere_piece), at the states' times. The next trial piece is twice the
- * last; the last of CR_SPHERE_MAX_PIECES pieces takes the rest of the step. */
+/* The earliest hit before best of turning sphere k (omega != 0) or
+ * particle sphere k within the current step (x0, x1 the world Cartesian
+ * positions at its ends), or 2. The step is walked in pieces from its
+ * start: a piece that cr_sphere_far rules out is passed over whole; one that
+ * may meet the sphere is halved until the sphere turns (or, a particle
+ * sphere, moves: cr_sphere_moved) by at most CR_SPHERE_MAX_TURN over it
+ * (judged on the dense output's own T) and looked at as a static sphere is
+ * over a step (cr_sphere_piece), at the states' times. A particle sphere's
+ * piece with an end where it has no place (outside its table) is passed
+ * over. The next trial piece is twice the last; the last of
+ * CR_SPHERE_MAX_PIECES pieces takes the rest of the step. */
 CR_HD static inline double cr_sphere_turning(const cr_frame *f, const cr_ray *ray, int k,
                                              const double x0[3], const double x1[3],
                                              double best, double *ys)
@@ -417,22 +504,26 @@ CR_HD static inline double cr_sphere_turning(const cr_frame *f, const cr_ray *ra
                 far = 1;
                 break;
             }
-            if (!(fabs(sp->omega * (tb - ta)) > CR_SPHERE_MAX_TURN) ||
+            if (!((sp->particle ? cr_sphere_moved(f, sp, ta, tb) : fabs(sp->omega * (tb - ta))) >
+                  CR_SPHERE_MAX_TURN) ||
                 h == CR_SPHERE_MAX_HALVINGS || (sb >= 1.0 && pieces == CR_SPHERE_MAX_PIECES))
                 break;
             len *= 0.5;
         }
         if (!far) {
             /* the sphere's own coordinates at both ends, at their times */
-            if (!have_la && !cr_sphere_local(f, ray, k, sa, ya, la))
-                return 2.0;
-            if (!cr_sphere_local(f, ray, k, sb, yb, lb))
-                return 2.0;
-            s = cr_sphere_piece(f, ray, k, sa, sb, la, lb, best, ys);
-            if (s <= 1.0)
-                return s;
-            for (i = 0; i < 3; i++)
-                la[i] = lb[i];
+            if ((!have_la && !cr_sphere_local(f, ray, k, sa, ya, la)) ||
+                !cr_sphere_local(f, ray, k, sb, yb, lb)) {
+                if (!sp->particle)
+                    return 2.0; /* no time: none further on either */
+                far = 1;
+            } else {
+                s = cr_sphere_piece(f, ray, k, sa, sb, la, lb, best, ys);
+                if (s <= 1.0)
+                    return s;
+                for (i = 0; i < 3; i++)
+                    la[i] = lb[i];
+            }
         }
         have_la = !far;
         sa = sb;
@@ -450,7 +541,7 @@ CR_HD static inline double cr_sphere_turning(const cr_frame *f, const cr_ray *ra
  * positions at its ends): for each sphere the earliest hit of the whole
  * step as one piece (cr_sphere_piece) for a static sphere or one at rest
  * (looked for at the states' times all the same), of cr_sphere_turning's
- * pieces for a turning one. Returns the sphere index or -1; on a hit,
+ * pieces for a turning one or a particle sphere. Returns the sphere index or -1; on a hit,
  * *s_out and ys hold the located point. */
 CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_ray *ray,
                                          const double x0[3], const double x1[3], double *s_out,
@@ -461,7 +552,7 @@ CR_HD static inline int cr_sphere_events(const cr_frame *f, const cr_ray *ray,
     for (k = 0; k < f->n_spheres; k++) {
         const cr_sphere *sp = &f->spheres[k];
         double xa[3], xb[3], s;
-        if (sp->moving && sp->omega != 0.0) {
+        if (sp->moving && (sp->omega != 0.0 || sp->particle)) {
             s = cr_sphere_turning(f, ray, k, x0, x1, best_s, tmp);
         } else {
             if (sp->moving) {
@@ -515,12 +606,43 @@ CR_HD static inline int cr_sphere_event(const cr_frame *f, const cr_ray *ray, do
     return hit;
 }
 
+/* The 4-velocity u^mu (BL) of particle sphere sp's matter at Cartesian
+ * point x (BL r, th) at BL time t: its rigid motion's coordinate velocity
+ * there, dx/dt = dc/dt + dph/dt z^ x (x - c) (cr_sphere_pose), in BL rates
+ * (cr_cart_vel_to_bl) and normalised, u = u^t (1, dr/dt, dth/dt, dph/dt)
+ * with u^t = 1 / sqrt(-g(dx/dt, dx/dt)); at the centre, the worldline's own
+ * u^mu. Returns 1, or 0 where the sphere has no place at t or that is not
+ * timelike (u untouched). */
+CR_HD static inline int cr_sphere_particle_u(const cr_frame *f, const cr_sphere *sp, double t,
+                                             const double x[3], double r, double th,
+                                             double u[4])
+{
+    double c[3], dc[3], ang, w, v[3], dr, dth, dph, n;
+    cr_metric_point q;
+    if (!cr_sphere_pose(f, sp, t, c, &ang, dc, &w))
+        return 0;
+    v[0] = dc[0] - w * (x[1] - c[1]);
+    v[1] = dc[1] + w * (x[0] - c[0]);
+    v[2] = dc[2];
+    cr_cart_vel_to_bl(f->metric.a, r, th, x, v, &dr, &dth, &dph);
+    cr_metric_eval(&f->metric, r, th, &q);
+    n = -(q.g_tt + dph * (2.0 * q.g_tph + dph * q.g_phph) + q.g_rr * dr * dr +
+          q.g_thth * dth * dth);
+    if (!(n > 0.0) || !cr_isfinite(n))
+        return 0;
+    u[0] = 1.0 / sqrt(n);
+    u[1] = dr * u[0];
+    u[2] = dth * u[0];
+    u[3] = dph * u[0];
+    return 1;
+}
+
 /* Shade a sphere hit h: outcome, sphere index, hit radius and azimuth, delay,
  * the chessboard colour there (in the sphere's own coordinates at the hit's
  * time: the pattern moves with a moving sphere) and the frequency ratio: of
  * a static source (6.9) for a static sphere; for a moving one the one
  * frequency ratio with its matter's 4-velocity at the hit point
- * (cr_sphere_velocity), and bolo = g^4, the bolometric intensity of a
+ * (cr_sphere_velocity; cr_sphere_particle_u for a particle sphere), and bolo = g^4, the bolometric intensity of a
  * surface of unit intensity in its rest frame (I / nu^4 is invariant for
  * the frequency-integrated intensity). */
 CR_HD static inline void cr_sphere_shade(const cr_frame *f, const cr_ray *ray, const cr_hit *h,
@@ -528,6 +650,7 @@ CR_HD static inline void cr_sphere_shade(const cr_frame *f, const cr_ray *ray, c
 {
     const cr_sphere *sp = &f->spheres[h->index];
     double xs[3], rr, th, ph, p[4], u[4];
+    int i, ok;
     cr_ray_position(ray, h->y, &rr, &th, &ph);
     px->outcome = CR_OUT_SPHERE;
     px->object = (int16_t)h->index;
@@ -537,7 +660,9 @@ CR_HD static inline void cr_sphere_shade(const cr_frame *f, const cr_ray *ray, c
     cr_ray_cart(f, ray, h->y, xs);
     if (sp->moving) {
         double xl[3];
-        cr_sphere_unturn(sp, f->t_obs - px->delay, xs, xl);
+        if (!cr_sphere_local_at(f, sp, f->t_obs - px->delay, xs, xl))
+            for (i = 0; i < 3; i++) /* at its table's very end (not met outside it) */
+                xl[i] = sp->center[i];
         px->color = cr_sphere_color(sp, xl);
     } else {
         px->color = cr_sphere_color(sp, xs);
@@ -547,9 +672,9 @@ CR_HD static inline void cr_sphere_shade(const cr_frame *f, const cr_ray *ray, c
         px->redshift = cr_redshift_static(f, ray->p_obs, p, rr, th);
         return;
     }
-    px->redshift = cr_sphere_velocity(&f->metric, sp->omega, rr, th, u)
-                       ? cr_frame_shift(f, ray->p_obs, p, u)
-                       : -1.0;
+    ok = sp->particle ? cr_sphere_particle_u(f, sp, f->t_obs - px->delay, xs, rr, th, u)
+                      : cr_sphere_velocity(&f->metric, sp->omega, rr, th, u);
+    px->redshift = ok ? cr_frame_shift(f, ray->p_obs, p, u) : -1.0;
     if (px->redshift > 0.0) {
         double g2 = px->redshift * px->redshift;
         px->bolo = g2 * g2;

@@ -41,6 +41,18 @@ typedef struct cr_scene_sphere {
     int r_isco;                  /* motion orbit, r: isco (r is that orbit's ISCO) */
     double omega;                /* motion rotating: dphi/dt, 1 / the scene's length
                                     unit (default 0: at rest) */
+    /* motion particle: the particle's initial data (sphere.particle, the
+     * keys of an orbit file's particle section; owned), NULL otherwise;
+     * r, theta, phi above are its start. Its worldline's table is
+     * cr_scene.track[track_off .. track_off + track_n - 1] (core/track.h),
+     * at BL times track_t0 + i track_h, its start's azimuth ph0, and the
+     * bounds of the sphere's points over it (cr_sphere's reach_lo,
+     * reach_hi, z_lo, z_hi): all in units of M, as the core takes them. */
+    struct cr_particle_spec *particle;
+    long track_off;
+    int track_n;
+    double track_t0, track_h, ph0;
+    double reach_lo, reach_hi, z_lo, z_hi;
 } cr_scene_sphere;
 
 /* How a sphere moves (sphere.motion; core/sphere.h). A moving one is seen
@@ -48,7 +60,9 @@ typedef struct cr_scene_sphere {
 typedef enum cr_scene_sphere_motion {
     CR_SPHERE_MOTION_STATIC = 0,   /* the paper's sphere: no time (default) */
     CR_SPHERE_MOTION_ORBIT = 1,    /* on the circular equatorial geodesic at its r */
-    CR_SPHERE_MOTION_ROTATING = 2  /* turning rigidly about the axis at omega */
+    CR_SPHERE_MOTION_ROTATING = 2, /* turning rigidly about the axis at omega */
+    CR_SPHERE_MOTION_PARTICLE = 3  /* carried along a massive (charged) particle's
+                                      worldline from its initial data */
 } cr_scene_sphere_motion;
 
 /* The spectrum section (-t s, src/output/spectrum.h): a line profile and
@@ -131,6 +145,9 @@ typedef struct cr_scene {
 
     cr_scene_sphere *spheres; /* in file order */
     int n_spheres;
+    cr_track_point *track;    /* the worldline tables of motion: particle spheres,
+                                 n_track samples in all (NULL, 0: none) */
+    long n_track;
 
     cr_rgb sky_color;     /* default black */
     cr_rgb horizon_color; /* default red; black next to a keplerian disc */

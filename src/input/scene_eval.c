@@ -654,6 +654,7 @@ static int frame_sphere_motion(const cr_scene *s, int k, int n, int i, const cr_
 {
     const cr_scene_sphere *ss = &s->spheres[i];
     sp->moving = ss->motion != CR_SPHERE_MOTION_STATIC;
+    sp->particle = ss->motion == CR_SPHERE_MOTION_PARTICLE;
     sp->omega = ss->motion == CR_SPHERE_MOTION_ROTATING ? ss->omega : 0.0;
     if (ss->motion == CR_SPHERE_MOTION_ORBIT) {
         int sense = cr_orbit_sense(mt, !ss->retrograde);
@@ -699,7 +700,7 @@ static int frame_sphere(const cr_scene *s, int k, int n, int i, const cr_metric 
     if (frame_sphere_motion(s, k, n, i, mt, sp, err))
         return -1;
     cr_sphere_prepare(sp, a);
-    if (sp->moving) {
+    if (sp->moving && !sp->particle) { /* a particle sphere's matter: sphere.h */
         double rb, thb;
         if (cr_sphere_too_fast(mt, sp, &rb, &thb))
             return frame_fail(err, s, k, n,
@@ -803,8 +804,24 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
     f->t_obs += k * s->obs_dt;
     /* inside the core every length is in units of M (messages above use the
      * scene's own units) */
-    for (i = 0; i < s->n_spheres; i++)
-        cr_sphere_to_units_of_m(&sphere_buf[i], f->metric.m);
+    for (i = 0; i < s->n_spheres; i++) {
+        const cr_scene_sphere *ss = &s->spheres[i];
+        cr_sphere *sp = &sphere_buf[i];
+        cr_sphere_to_units_of_m(sp, f->metric.m);
+        if (sp->particle) { /* its table is in units of M already */
+            sp->track_off = ss->track_off;
+            sp->track_n = ss->track_n;
+            sp->track_t0 = ss->track_t0;
+            sp->track_h = ss->track_h;
+            sp->ph0 = ss->ph0;
+            sp->reach_lo = ss->reach_lo;
+            sp->reach_hi = ss->reach_hi;
+            sp->z_lo = ss->z_lo;
+            sp->z_hi = ss->z_hi;
+        }
+    }
+    f->track = s->track;
+    f->n_track = s->n_track;
     {
         double m_scene = f->metric.m;
         cr_frame_to_units_of_m(f);

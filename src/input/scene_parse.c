@@ -14,7 +14,9 @@
 
 #include "../base/png_io.h"
 #include "../core/defs.h"
+#include "../core/track.h"
 #include "names.h"
+#include "particle_spec.h"
 #include "yamlutil.h"
 
 /* Largest scene file read (bytes). */
@@ -874,20 +876,21 @@ static int parse_sphere_motion(cr_yaml *y, const cr_yaml_field *fm, const cr_yam
                                const cr_yaml_field *fo, const cr_yaml_field *fpos,
                                const char *p, cr_scene_sphere *sp, cr_err *err)
 {
-    static const char *const words[3] = {"static", "orbit", "rotating"};
+    static const char *const words[4] = {"static", "orbit", "rotating", "particle"};
     char sub[CR_YAML_PATH], got[96];
     int i;
     sp->motion = CR_SPHERE_MOTION_STATIC;
     if (fm->value) {
         cr_yaml_path_key(sub, sizeof sub, p, "motion");
-        for (i = 0; i < 3 && !cr_yaml_scalar_is(fm->value, words[i]); i++)
+        for (i = 0; i < 4 && !cr_yaml_scalar_is(fm->value, words[i]); i++)
             ;
-        if (i == 3) {
+        if (i == 4) {
             cr_yaml_describe(fm->value, got, sizeof got);
             return cr_yaml_fail(y, fm->value, sub, err,
                                 "unknown motion %s (expected static, orbit: the circular "
-                                "equatorial orbit at its r, or rotating: turning about the "
-                                "axis at omega)",
+                                "equatorial orbit at its r, rotating: turning about the "
+                                "axis at omega, or particle: along the worldline of "
+                                "sphere.particle)",
                                 got);
         }
         sp->motion = i;
@@ -909,7 +912,7 @@ static int parse_sphere_motion(cr_yaml *y, const cr_yaml_field *fm, const cr_yam
         if (cr_yaml_number(y, fo->value, sub, &sp->omega, err)) /* finite */
             return -1;
     }
-    if (sp->motion == CR_SPHERE_MOTION_STATIC)
+    if (sp->motion == CR_SPHERE_MOTION_STATIC || sp->motion == CR_SPHERE_MOTION_PARTICLE)
         return 0;
     for (i = 0; i < 3; i++) {
         const cr_anim *v = i == 0 ? &sp->r : (i == 1 ? &sp->theta : &sp->phi);
@@ -932,16 +935,165 @@ static int parse_sphere_motion(cr_yaml *y, const cr_yaml_field *fm, const cr_yam
     return 0;
 }
 
-static int parse_sphere(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *p,
-                        cr_scene_sphere *sp, cr_err *err)
+static yaml_node_t *map_key(cr_yaml *y, yaml_node_t *map, const char *key);
+
+/* The worldline table of particle sphere sp (its spec read, on metric mt
+ * in the scene's units), appended to s->track in units of M. where: the
+ * node for messages (the particle key), p the sphere's path. */
+static int sphere_track(cr_yaml *y, yaml_node_t *where, const char *p, const cr_metric *mt,
+                        cr_scene *s, cr_scene_sphere *sp, cr_err *err)
 {
-    enum { COLOR, RESOLUTION, R, THETA, PHI, ROLL, PITCH, YAW, RADIUS, MOTION, RETRO, OMEGA, N };
-    cr_yaml_field f[N] = {REQ("color"), REQ("resolution"), REQ("r"),     REQ("theta"),
-                          REQ("phi"),   OPT("roll"),       OPT("pitch"), OPT("yaw"),
-                          REQ("radius"), OPT("motion"),    OPT("retrograde"), OPT("omega")};
-    int r_isco;
+    const cr_particle_spec *ps = sp->particle;
+    double m = mt->m, t_end, h, k = 1.0 / m;
+    char sub[CR_YAML_PATH];
+    cr_particle pa;
+    cr_track_point *tab;
+    int ended, n, i, j;
+    cr_yaml_path_key(sub, sizeof sub, p, "particle.tau");
+    if (!cr_particle_spec_start(ps, &pa) || cr_track_span(&pa, ps->tau, &t_end, &ended))
+        return cr_yaml_fail(y, where, sub, err,
+                            "the worldline's integration failed before its end");
+    n = cr_track_count(ps->t0 * k, t_end * k, &h);
+    if (h > 0.5)
+        return cr_yaml_fail(y, where, sub, err,
+                            "the worldline spans t = %g M, more than its table holds (%d "
+                            "samples at most 0.5 M apart): follow it for less proper time",
+                            (t_end - ps->t0) * k, CR_TRACK_MAX);
+    tab = realloc(s->track, sizeof *tab * (size_t)(s->n_track + n));
+    if (!tab)
+        return cr_yaml_fail(y, where, sub, err, "out of memory for the worldline's table");
+    s->track = tab;
+    tab += s->n_track;
+    if (!cr_particle_spec_start(ps, &pa) || cr_track_fill(&pa, t_end, n, tab))
+        return cr_yaml_fail(y, where, sub, err,
+                            "the worldline's integration failed before its end");
+    sp->reach_hi = sp->z_hi = -INFINITY;
+    sp->reach_lo = sp->z_lo = INFINITY;
+    for (i = 0; i < n; i++) { /* into units of M: lengths and times / m, rates * m */
+        double c2 = 0.0, rad = sp->radius.a * k, cn;
+        for (j = 0; j < 3; j++) {
+            tab[i].x[j] *= k;
+            c2 += tab[i].x[j] * tab[i].x[j];
+        }
+        tab[i].w *= m;
+        cn = sqrt(c2);
+        sp->reach_hi = fmax(sp->reach_hi, cn + rad);
+        sp->reach_lo = fmin(sp->reach_lo, cn - rad);
+        sp->z_hi = fmax(sp->z_hi, tab[i].x[2] + rad);
+        sp->z_lo = fmin(sp->z_lo, tab[i].x[2] - rad);
+    }
+    /* between samples the Hermite curve may bulge out a little: a margin of
+     * the largest step along it */
+    {
+        double dmax = 0.0;
+        for (i = 0; i + 1 < n; i++) {
+            double d2 = 0.0;
+            for (j = 0; j < 3; j++)
+                d2 += (tab[i + 1].x[j] - tab[i].x[j]) * (tab[i + 1].x[j] - tab[i].x[j]);
+            dmax = fmax(dmax, sqrt(d2));
+        }
+        sp->reach_hi += dmax;
+        sp->reach_lo -= dmax;
+        sp->z_hi += dmax;
+        sp->z_lo -= dmax;
+    }
+    sp->track_off = s->n_track;
+    sp->track_n = n;
+    sp->track_t0 = ps->t0 * k;
+    sp->track_h = h;
+    sp->ph0 = tab[0].ph;
+    s->n_track += n;
+    return 0;
+}
+
+/* sphere.particle of a motion: particle sphere (fpart; fm its motion, fpos
+ * its r, theta, phi, which it must not have): the particle section read by
+ * particle_spec's parser on the scene's metric (not animated), its start
+ * set as the sphere's place, its worldline tabulated. Else particle is
+ * refused. */
+static int parse_sphere_particle(cr_yaml *y, const cr_yaml_field *fm,
+                                 const cr_yaml_field *fpart, const cr_yaml_field *fpos,
+                                 const char *p, cr_scene *s, cr_scene_sphere *sp, cr_err *err)
+{
+    char sub[CR_YAML_PATH];
+    cr_particle_spec *ps;
+    cr_metric mt;
+    int i;
+    cr_yaml_path_key(sub, sizeof sub, p, "particle");
+    if (sp->motion != CR_SPHERE_MOTION_PARTICLE) {
+        if (fpart->value)
+            return cr_yaml_fail(y, fpart->key_node, sub, err,
+                                "applies only to motion: particle (the initial data of its "
+                                "worldline)");
+        return 0;
+    }
+    if (!fpart->value)
+        return cr_yaml_fail(y, fm->value, sub, err,
+                            "motion: particle needs the particle's initial data: a particle "
+                            "section with the keys of an orbit file's");
+    for (i = 0; i < 3; i++)
+        if (fpos[i].value) {
+            char k[CR_YAML_PATH];
+            cr_yaml_path_key(k, sizeof k, p, fpos[i].key);
+            return cr_yaml_fail(y, fpos[i].key_node, k, err,
+                                "a motion: particle sphere starts where its particle does: "
+                                "give particle.%s instead",
+                                fpos[i].key);
+        }
+    if (s->m.a != s->m.b || s->a.a != s->a.b || s->q.a != s->q.b)
+        return cr_yaml_fail(y, fm->value, sub, err,
+                            "motion: particle follows a worldline of one hole: the metric "
+                            "must not be animated");
+    mt.m = s->m.a;
+    mt.a = s->a.a;
+    mt.q = s->q.a;
+    if (!(mt.m > 0.0) || mt.a * mt.a + mt.q * mt.q > mt.m * mt.m)
+        return cr_yaml_fail(y, fm->value, sub, err,
+                            "motion: particle needs a hole with a horizon (m > 0, a^2 + q^2 "
+                            "<= m^2)");
+    ps = calloc(1, sizeof *ps);
+    if (!ps)
+        return cr_yaml_fail(y, fpart->key_node, sub, err, "out of memory");
+    sp->particle = ps;
+    ps->mt = mt;
+    if (cr_particle_spec_parse(y, fpart->key_node, fpart->value, sub, 1, ps, err))
+        return -1;
+    sp->r.a = sp->r.b = ps->r;
+    sp->theta.a = sp->theta.b = ps->theta;
+    sp->phi.a = sp->phi.b = ps->phi;
+    if (sp->radius.a != sp->radius.b) {
+        char k[CR_YAML_PATH];
+        cr_yaml_path_key(k, sizeof k, p, "radius");
+        return cr_yaml_fail(y, fpos[3].value, k, err,
+                            "a motion: particle sphere keeps its size: give a plain value, "
+                            "not an animation");
+    }
+    return sphere_track(y, fpart->key_node, p, &mt, s, sp, err);
+}
+
+static int parse_sphere(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *p,
+                        cr_scene *s, cr_scene_sphere *sp, cr_err *err)
+{
+    enum {
+        COLOR, RESOLUTION, R, THETA, PHI, ROLL, PITCH, YAW, RADIUS, MOTION, RETRO, OMEGA, PART, N
+    };
+    cr_yaml_field f[N] = {REQ("color"),  REQ("resolution"), REQ("r"),     REQ("theta"),
+                          REQ("phi"),    OPT("roll"),       OPT("pitch"), OPT("yaw"),
+                          REQ("radius"), OPT("motion"),     OPT("retrograde"), OPT("omega"),
+                          OPT("particle")};
+    cr_yaml_field pos[4];
+    yaml_node_t *mk = map_key(y, map, "motion");
+    int r_isco, i;
     memset(sp, 0, sizeof *sp);
     sp->line = (int)(key ? key->start_mark.line : map->start_mark.line) + 1;
+    /* a particle sphere's place is its particle's start */
+    if (mk && mk->type == YAML_SCALAR_NODE) {
+        yaml_node_pair_t *pr;
+        for (pr = map->data.mapping.pairs.start; pr < map->data.mapping.pairs.top; pr++)
+            if (cr_yaml_node(y, pr->key) == mk &&
+                cr_yaml_scalar_is(cr_yaml_node(y, pr->value), "particle"))
+                f[R].required = f[THETA].required = f[PHI].required = 0;
+    }
     if (cr_yaml_fields(y, map, p, key, f, N, err))
         return -1;
     r_isco = cr_yaml_scalar_is(f[R].value, "isco");
@@ -963,7 +1115,10 @@ static int parse_sphere(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const ch
         field_anim(y, &f[RADIUS], p, V_NUMBER, 0.0, &sp->radius, err) ||
         parse_sphere_motion(y, &f[MOTION], &f[RETRO], &f[OMEGA], &f[R], p, sp, err))
         return -1;
-    return 0;
+    for (i = 0; i < 3; i++)
+        pos[i] = f[R + i];
+    pos[3] = f[RADIUS];
+    return parse_sphere_particle(y, &f[MOTION], &f[PART], pos, p, s, sp, err);
 }
 
 /* The key node of key in mapping map, or NULL. */
@@ -1000,7 +1155,7 @@ static int check_moving(cr_yaml *y, yaml_node_t *metric, yaml_node_t *observer,
             cr_yaml_path_key(sub, sizeof sub, "observer", keys[i]);
             return cr_yaml_fail(y, k, sub, err,
                                 "the observer's time needs a moving object: give a sphere a "
-                                "motion (sphere.motion: orbit or rotating)");
+                                "motion (sphere.motion: orbit, rotating or particle)");
         }
         return 0;
     }
@@ -1048,9 +1203,9 @@ static int parse_spheres(cr_yaml *y, yaml_node_t *root, cr_scene *s, cr_err *err
             if (grow_spheres(s, &cap))
                 return cr_yaml_fail(y, k, "sphere", err, "out of memory for spheres");
             cr_yaml_path_index(p, sizeof p, "sphere", s->n_spheres);
-            if (parse_sphere(y, k, v, p, &s->spheres[s->n_spheres], err))
+            s->n_spheres++; /* counted first: cr_scene_free frees what it holds */
+            if (parse_sphere(y, k, v, p, s, &s->spheres[s->n_spheres - 1], err))
                 return -1;
-            s->n_spheres++;
         } else if (cr_yaml_scalar_is(k, "spheres")) {
             int count;
             if (cr_yaml_list(y, v, "spheres", -1, "a list of spheres", NULL, &count, err))
@@ -1062,9 +1217,9 @@ static int parse_spheres(cr_yaml *y, yaml_node_t *root, cr_scene *s, cr_err *err
                 if (grow_spheres(s, &cap))
                     return cr_yaml_fail(y, item, "spheres", err, "out of memory for spheres");
                 cr_yaml_path_index(p, sizeof p, "spheres", j);
-                if (parse_sphere(y, NULL, item, p, &s->spheres[s->n_spheres], err))
-                    return -1;
                 s->n_spheres++;
+                if (parse_sphere(y, NULL, item, p, s, &s->spheres[s->n_spheres - 1], err))
+                    return -1;
             }
         }
     }
@@ -1217,6 +1372,9 @@ void cr_scene_free(cr_scene *s)
     free(s->sky_image);
     free(s->sky_other_image);
     free(s->sky_rgb);
+    for (int i = 0; s->spheres && i < s->n_spheres; i++)
+        free(s->spheres[i].particle);
     free(s->spheres);
+    free(s->track);
     memset(s, 0, sizeof *s);
 }

@@ -440,6 +440,10 @@ struct cr_gpu_session {
     size_t d_sky_cap;       /* bytes allocated at d_sky */
     const uint8_t *sky_host; /* which texture d_sky holds: host pointer, width, height */
     int sky_w, sky_h;
+    cr_track_point *d_track; /* the uploaded worldline table (cr_frame.track) */
+    long d_track_cap;        /* samples allocated at d_track */
+    const cr_track_point *track_host; /* which table d_track holds: host pointer, count */
+    long track_n;
     int *abort_host;        /* pinned, mapped: non-zero makes queued blocks return */
     int *abort_dev;         /* the same int as the device sees it */
     cr_gpu_slot slot[CR_GPU_SLOTS];
@@ -510,6 +514,7 @@ extern "C" void cr_gpu_session_free(cr_gpu_session *s)
     cudaFree(s->d_out);
     cudaFree(s->d_spheres);
     cudaFree(s->d_sky);
+    cudaFree(s->d_track);
     cudaFreeHost(s->abort_host);
     if (s->stream_made)
         cudaStreamDestroy(s->stream);
@@ -591,6 +596,32 @@ static int cr_gpu_session_sky(cr_gpu_session *s, const cr_frame *f, cr_err *err)
     return 0;
 }
 
+/* Make the device hold f's worldline table (particle spheres), as the sky
+ * texture: uploaded when the host table or its length changes (a scene's
+ * table is the same for all its frames). */
+static int cr_gpu_session_track(cr_gpu_session *s, const cr_frame *f, cr_err *err)
+{
+    size_t bytes;
+    if (!f->track || f->n_track <= 0 || (f->track == s->track_host && f->n_track == s->track_n))
+        return 0;
+    bytes = sizeof(cr_track_point) * (size_t)f->n_track;
+    /* frames in flight may still read the table held now */
+    CR_CUDA_CHECK(cudaStreamSynchronize(s->stream));
+    s->track_host = NULL;
+    if (f->n_track > s->d_track_cap) {
+        CR_CUDA_CHECK(cudaFree(s->d_track));
+        s->d_track = NULL;
+        s->d_track_cap = 0;
+        CR_CUDA_CHECK(cudaMalloc((void **)&s->d_track, bytes));
+        s->d_track_cap = f->n_track;
+    }
+    CR_CUDA_CHECK(
+        cudaMemcpyAsync(s->d_track, f->track, bytes, cudaMemcpyHostToDevice, s->stream));
+    s->track_host = f->track;
+    s->track_n = f->n_track;
+    return 0;
+}
+
 /* Give slot sl room for n spheres (pinned) and n_chunks chunk events, and
  * the device room for n spheres. */
 static int cr_gpu_session_room(cr_gpu_session *s, cr_gpu_slot *sl, int n, int n_chunks,
@@ -662,6 +693,8 @@ extern "C" int cr_gpu_session_launch_rows(cr_gpu_session *s, const cr_frame *f, 
         return cr_err_set(err, "cr_gpu_render: frame without its sphere array");
     if (f->sky.rgb && (f->sky.width <= 0 || f->sky.height <= 0))
         return cr_err_set(err, "cr_gpu_render: sky texture without a size");
+    if (f->n_track < 0 || (f->n_track > 0 && !f->track))
+        return cr_err_set(err, "cr_gpu_render: frame without its worldline table");
     if (s->launched - s->waited >= CR_GPU_SLOTS)
         return cr_err_set(err, "cr_gpu_session_launch: %d frames are in flight already",
                           CR_GPU_SLOTS);
@@ -670,7 +703,8 @@ extern "C" int cr_gpu_session_launch_rows(cr_gpu_session *s, const cr_frame *f, 
     n_chunks = (n_rows + rows - 1) / rows;
 
     CR_CUDA_CHECK(cudaSetDevice(s->device));
-    if (cr_gpu_session_sky(s, f, err) || cr_gpu_session_room(s, sl, f->n_spheres, n_chunks, err))
+    if (cr_gpu_session_sky(s, f, err) || cr_gpu_session_track(s, f, err) ||
+        cr_gpu_session_room(s, sl, f->n_spheres, n_chunks, err))
         return -1;
     if (!sl->px)
         CR_CUDA_CHECK(cudaMallocHost((void **)&sl->px, sizeof(cr_pixel) * s->max_pixels));
@@ -685,6 +719,7 @@ extern "C" int cr_gpu_session_launch_rows(cr_gpu_session *s, const cr_frame *f, 
     }
     df.spheres = f->n_spheres > 0 ? s->d_spheres : NULL;
     df.sky.rgb = f->sky.rgb ? s->d_sky : NULL;
+    df.track = f->track && f->n_track > 0 ? s->d_track : NULL;
 
     threads = dim3(CR_GPU_TILE_W, (unsigned)(s->block / CR_GPU_TILE_W), 1);
     for (row0 = first, c = 0; row0 < last; row0 += rows, c++) {
