@@ -74,11 +74,18 @@ CR_HD static inline void cr_track_sample(double a, const cr_particle_point *q,
 /* The coordinate time *t_end at which particle p (just started) ends: its
  * proper time reaches tau (> 0), or it reaches the horizon stop or r_max
  * (*ended: particle.h's CR_PARTICLE_*, RUNNING for tau). p is stepped
- * there. Returns 0, or -1 where the integration failed. */
-CR_HD static inline int cr_track_span(cr_particle *p, double tau, double *t_end, int *ended)
+ * there, or only until its t passes t_max (then *t_end > t_max: too long
+ * for the caller's table). Returns 0, or -1 where the integration failed. */
+CR_HD static inline int cr_track_span(cr_particle *p, double tau, double t_max, double *t_end,
+                                      int *ended)
 {
-    while (!p->ended && p->tau1 < tau)
+    while (!p->ended && p->tau1 < tau && !(p->t1 > t_max))
         cr_particle_step(p);
+    if (p->t1 > t_max && p->ended != CR_PARTICLE_FAILED) {
+        *t_end = p->t1;
+        *ended = CR_PARTICLE_RUNNING;
+        return 0;
+    }
     if (p->ended == CR_PARTICLE_FAILED)
         return -1;
     if (p->tau1 >= tau && p->hm > 0.0) {

@@ -950,14 +950,16 @@ static int sphere_track(cr_yaml *y, yaml_node_t *where, const char *p, const cr_
     cr_track_point *tab;
     int ended, n, i, j;
     cr_yaml_path_key(sub, sizeof sub, p, "particle.tau");
-    if (!cr_particle_spec_start(ps, &pa) || cr_track_span(&pa, ps->tau, &t_end, &ended))
+    if (!cr_particle_spec_start(ps, &pa) ||
+        cr_track_span(&pa, ps->tau, ps->t0 + 0.5 * (CR_TRACK_MAX - 1) * m, &t_end, &ended))
         return cr_yaml_fail(y, where, sub, err,
                             "the worldline's integration failed before its end");
     n = cr_track_count(ps->t0 * k, t_end * k, &h);
     if (h > 0.5)
         return cr_yaml_fail(y, where, sub, err,
-                            "the worldline spans t = %g M, more than its table holds (%d "
-                            "samples at most 0.5 M apart): follow it for less proper time",
+                            "the worldline spans more than t = %g M, more than its table "
+                            "holds (%d samples at most 0.5 M apart): follow it for less "
+                            "proper time",
                             (t_end - ps->t0) * k, CR_TRACK_MAX);
     tab = realloc(s->track, sizeof *tab * (size_t)(s->n_track + n));
     if (!tab)
@@ -1068,7 +1070,10 @@ static int parse_sphere_particle(cr_yaml *y, const cr_yaml_field *fm,
                             "a motion: particle sphere keeps its size: give a plain value, "
                             "not an animation");
     }
-    return sphere_track(y, fpart->key_node, p, &mt, s, sp, err);
+    {
+        yaml_node_t *tk = map_key(y, fpart->value, "tau");
+        return sphere_track(y, tk ? tk : fpart->key_node, p, &mt, s, sp, err);
+    }
 }
 
 static int parse_sphere(cr_yaml *y, yaml_node_t *key, yaml_node_t *map, const char *p,
