@@ -26,7 +26,8 @@
  * emission delay bit for bit (the lanes keep the scalar bookkeeping's
  * order of operations). The counts of pixels equal bit for bit are
  * printed. The step and turn limits: demo.yml with max_steps 6 and with
- * max_turns 0.05, both paths the same, limit pixels required. A frame
+ * max_turns 0.05, both paths the same, limit pixels required. Science
+ * frames (cr_frame.science) of three scenes, both paths the same. A frame
  * with 3 x 3 samples (the packet path hands it to the scalar tracer) and
  * frames with cancelled renders are not covered here.
  *
@@ -150,6 +151,10 @@ static double pk_rel(double a, double b)
     return m > 0.0 ? d / m : d;
 }
 
+/* A science frame (cr_frame.science) in pk_compare_limits: set by
+ * test_packet_science. */
+static int pk_science;
+
 /* One scene's comparison; returns the number of failures. max_steps,
  * max_turns > 0 replace the frame's limits; *n_limit (if not NULL) gets the
  * number of pixels the scalar path ends as limit. */
@@ -172,6 +177,7 @@ static int pk_compare_limits(const char *name, int path, long max_steps, double 
         f.max_steps = max_steps;
     if (max_turns > 0.0)
         f.max_turns = max_turns;
+    f.science = pk_science;
     if (cr_cpu_render_rows_path(&f, 0, H, 2, CR_CPU_SIMD_SCALAR, ref, NULL, NULL, NULL, &err) ||
         cr_cpu_render_rows_path(&f, 0, H, 2, path, got, NULL, NULL, NULL, &err))
         fail_msg("%s: %s", name, err.msg);
@@ -276,6 +282,29 @@ static void test_packet_limits(void **state)
     assert_int_equal(failures, 0);
 }
 
+/* Science frames (their steps at the finer tolerance, every hit's delay by
+ * quadrature) on the packet path: a Keplerian disc from r = 30 M (listing
+ * 7.1.1), one from infinity (keplerian-face-on.yml) and a moving sphere
+ * (hot-spot-isco.yml), the same pixels as the scalar path. */
+static void test_packet_science(void **state)
+{
+    static const char *const names[3] = {"listing-7.1.1-schwarzschild-disc.yml",
+                                         "keplerian-face-on.yml", "hot-spot-isco.yml"};
+    int p, i, bits = pk_paths(), failures = 0;
+    (void)state;
+    if (!cr_cpu_simd_built() || bits == 0) {
+        print_message("SKIPPED: no packet path on this CPU or build\n");
+        skip();
+    }
+    pk_science = 1;
+    for (p = CR_CPU_SIMD_AVX2; p <= CR_CPU_SIMD_AVX512; p++)
+        if (bits & (1 << p))
+            for (i = 0; i < 3; i++)
+                failures += pk_compare_scene(names[i], p);
+    pk_science = 0;
+    assert_int_equal(failures, 0);
+}
+
 static void test_packet_matches_scalar(void **state)
 {
     char dir[1024];
@@ -359,6 +388,7 @@ int main(void)
         cmocka_unit_test(test_dispatch),
         cmocka_unit_test(test_packet_matches_scalar),
         cmocka_unit_test(test_packet_limits),
+        cmocka_unit_test(test_packet_science),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

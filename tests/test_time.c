@@ -176,7 +176,7 @@ static void test_radial(void **state)
                 want = rstar(40.0) - rstar(rh[i]);
             }
             assert_int_equal(walk_to_radius(&f, &ray, rh[i], 1, ys), 0);
-            got = cr_ray_delay_at(&ray, s_at, ys);
+            got = cr_ray_delay_at(&f, &ray, s_at, ys);
             print_message("radial %s r = %4.1f: delay %.12f, exact %.12f, error %.2e\n",
                           which == 0 ? "mino r_o=40" : which == 1 ? "mino r_o=inf" : "rk4 r_o=40 ",
                           rh[i], got, want, rel_err(got, want));
@@ -275,7 +275,7 @@ static void test_turning_point(void **state)
         else
             want = far + quad(sch_leg_out, &s, 0.0, 1.0, 400) + quad(sch_dtdr, &s, rmin + 1.0, r, 400);
         assert_int_equal(walk_to_radius(&f, &ray, r, leg, ys), 0);
-        got = cr_ray_delay_at(&ray, s_at, ys);
+        got = cr_ray_delay_at(&f, &ray, s_at, ys);
         print_message("b = 5.4, r_min = %.6f, r = %4.1f leg %d: delay %.12f, quadrature %.12f, "
                       "error %.2e\n",
                       rmin, r, leg, got, want, rel_err(got, want));
@@ -413,7 +413,7 @@ static void test_kerr(void **state)
         }
         assert_int_equal(walk_to_equator(&f, &ray, ys), 0);
         cr_ray_position(&ray, ys, &got_r, &th, &ph);
-        got_t = cr_ray_delay_at(&ray, s_at, ys);
+        got_t = cr_ray_delay_at(&f, &ray, s_at, ys);
         print_message("kerr a = 0.9 %s: crossing r %.12f (quadrature %.12f, error %.2e), "
                       "delay %.12f (quadrature %.12f, error %.2e)\n",
                       which == 0 ? "from infinity" : "r_o = 100    ", got_r, want_r,

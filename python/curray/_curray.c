@@ -101,6 +101,7 @@ static int cr_py_prepare(cr_py_job *j, const char *scene_text, Py_ssize_t scene_
         cr_py_value_error("scene file ", &err);
         return -1;
     }
+    j->eval.frame.science = 1; /* every array is read for its values */
     return 0;
 }
 

@@ -83,6 +83,9 @@ double cr_now(void);
 /* Does the run write output type t? A video (v) is made from the colour
  * frames, so v implies c. */
 int cr_has_type(const cr_run *run, char t);
+/* Whether the run's output types read pixels for their values (-t d, the
+ * CSV; -t f, FITS): its frames are science frames (cr_frame.science). */
+int cr_run_science(const cr_run *run);
 
 /* Is frame k one that --resume keeps from the earlier run? */
 int cr_frame_kept(const cr_run *run, int k);

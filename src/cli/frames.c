@@ -28,6 +28,11 @@ int cr_has_type(const cr_run *run, char t)
     return cr_output_types_has(run->cli.output_type, t);
 }
 
+int cr_run_science(const cr_run *run)
+{
+    return cr_has_type(run, 'd') || cr_has_type(run, 'f');
+}
+
 int cr_frame_kept(const cr_run *run, int k)
 {
     return run->resume.body && run->resume.body[k];
@@ -91,6 +96,7 @@ static int cr_prepare_frame(void *ctx, int k, void **slot, const cr_frame **f, c
     if (cr_frame_eval_at(e, &run->scene, k, (int)run->cli.frames, (int)run->cli.width,
                          (int)run->cli.height, &run->ts, err))
         return -1;
+    e->frame.science = cr_run_science(run);
     *f = &e->frame;
     return 0;
 }
@@ -405,8 +411,10 @@ int cr_trace_paths(cr_run *run)
         int i = (int)run->cli.trace_i, j = (int)run->cli.trace_j;
         snprintf(name, sizeof name, "trace_%d_%d_%d.csv", i, j, k);
         if (cr_frame_eval_at(&e, &run->scene, k, (int)run->cli.frames, (int)run->cli.width,
-                             (int)run->cli.height, &run->ts, &err) ||
-            cr_raypath_trace(&e.frame, i, j, &rp, &err))
+                             (int)run->cli.height, &run->ts, &err))
+            goto fail;
+        e.frame.science = 1; /* the path and its hit, read for their values */
+        if (cr_raypath_trace(&e.frame, i, j, &rp, &err))
             goto fail;
         if (cr_raypath_write_csv(run->cli.output_dir, name, &rp, &err)) {
             cr_raypath_free(&rp);

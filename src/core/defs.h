@@ -294,6 +294,12 @@ typedef struct cr_frame {
     int samples;            /* antialiasing: samples x samples sub-pixel rays
                                per pixel (cr_trace_pixel); 1 (or any value
                                outside 2..CR_MAX_SAMPLES) traces one ray */
+    int science;            /* the frame's pixels are read for their values
+                               (hit_r, hit_phi, g, delay: CSV, FITS, Python),
+                               not only for colours: its Mino steps take the
+                               tighter tolerance of cr_ray_tolerance (ray.h);
+                               0 (colour images, today's steps) unless the
+                               caller sets it after the frame is made */
 
     /* derived */
     double r_stop;        /* r+ + epsilon */

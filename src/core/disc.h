@@ -162,7 +162,7 @@ CR_HD static inline void cr_disc_shade(const cr_frame *f, const cr_ray *ray, con
     px->object = (int16_t)side;
     px->hit_r = rr;
     px->hit_phi = cr_wrap_2pi(ph);
-    px->delay = cr_ray_delay_at(ray, h->s, h->y);
+    px->delay = cr_ray_delay_at(f, ray, h->s, h->y);
     cr_ray_momentum(ray, h->y, p);
     if (f->disc.model == CR_DISC_KEPLERIAN) {
         px->redshift = cr_disc_keplerian_g(f, ray->p_obs, p, rr);

@@ -312,7 +312,7 @@ CR_HD static inline void cr_lens_refine(const cr_frame *f, const cr_lens_target 
     if ((g.f1 < g.f2 ? g.f1 : g.f2) < best)
         sb = g.f1 < g.f2 ? g.x1 : g.x2;
     h->d = sqrt(cr_lens_d2_at(f, ray, sb, t->P, h->x, nn, ys));
-    h->delay = cr_ray_delay_at(ray, sb, ys);
+    h->delay = cr_ray_delay_at(f, ray, sb, ys);
     /* the tangent by a central difference on the dense output */
     e = 1e-6 * se;
     sa = sb - e > 0.0 ? sb - e : 0.0;

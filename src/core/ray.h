@@ -105,7 +105,9 @@ typedef struct cr_ray {
     cr_dp5 st;     /* stages; st.k[0] = f(m) */
     double hm;     /* the current step */
     double h_next; /* the next trial step */
-    int t_quad;    /* the current step's T is by quadrature (cr_mino_t_quad) */
+    int t_quad;    /* the current step did not resolve T: T inside it by
+                      quadrature (cr_mino_t_quad; its end's T too, but for a
+                      step that ends beyond every object moving outward) */
     /* Path recorder (cr_path, path.h): NULL except when one ray's path is
      * wanted (--trace, curray.trace); set by the ray's maker to NULL. */
     struct cr_path *path;
@@ -208,11 +210,16 @@ CR_HD static inline double cr_ray_delay(const cr_ray *ray, const double *y)
     return ray->c.chart == CR_CHART_BL && !ray->crossed ? cr_mino_delay(&ray->c, y) : NAN;
 }
 
-/* The delay at state ys = cr_ray_state_at(ray, s) of the current step; under
- * Mino T there by quadrature when the step did not resolve it. */
-CR_HD static inline double cr_ray_delay_at(const cr_ray *ray, double s, const double *ys)
+/* The delay at state ys = cr_ray_state_at(ray, s) of the current step of a
+ * ray of frame f; under Mino T there by quadrature on the dense output
+ * (cr_mino_t_quad) when the step did not resolve it, and always in a
+ * science frame (cr_frame.science): the dense output's own T, of 4th order,
+ * can be off by more than the step's estimate for its end. */
+CR_HD static inline double cr_ray_delay_at(const cr_frame *f, const cr_ray *ray, double s,
+                                           const double *ys)
 {
-    if (ray->kind == CR_INTEG_MINO && ray->t_quad) {
+    if (ray->kind == CR_INTEG_MINO &&
+        (ray->t_quad || (f->science && ray->c.chart == CR_CHART_BL && !ray->crossed))) {
         double y[CR_MN];
         int i;
         for (i = 0; i < CR_MN; i++)
@@ -473,6 +480,22 @@ CR_HD static inline double cr_ray_event_locate(const cr_frame *f, const cr_ray *
     return z.s;
 }
 
+/* The science tolerance: a frame whose pixels are read for their values
+ * (cr_frame.science) steps at this fraction of raytracer.tolerance. The
+ * error of a value is a sum over the ray's steps (the phases of its radial
+ * and angular motion), so it shrinks with the steps' tolerance: at 1/2 of
+ * the default 1e-7 the hit radius of rays near the photon sphere is within
+ * 7e-8 relative of the exact orbit's, for about 14 % more steps
+ * (test_accuracy, BENCHMARKS.md). */
+#define CR_SCIENCE_TOL 0.5
+
+/* The local error tolerance of frame f's Mino steps: raytracer.tolerance,
+ * times CR_SCIENCE_TOL for a science frame. */
+CR_HD static inline double cr_ray_tolerance(const cr_frame *f)
+{
+    return f->science ? CR_SCIENCE_TOL * f->tolerance : f->tolerance;
+}
+
 /* Start a Mino ray from a BL state (RK4 layout) and constants. */
 CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
 {
@@ -484,7 +507,7 @@ CR_HD static inline void cr_ray_mino_start(const cr_frame *f, cr_ray *ray)
     if (fabs(ray->m[CR_M_NZ]) < 1e-15) /* cos(pi/2) rounded: on the disc plane */
         ray->m[CR_M_NZ] = 0.0;
     cr_mino_rhs(&ray->c, ray->m, ray->st.k[0]);
-    ray->h_next = cr_mino_first_step(&ray->c, f->tolerance);
+    ray->h_next = cr_mino_first_step(&ray->c, cr_ray_tolerance(f));
     ray->t_quad = 0;
     cr_ray_momentum(ray, ray->m, ray->p_obs);
 }
@@ -640,18 +663,27 @@ CR_HD static inline int cr_ray_misses_scene(const cr_frame *f, const cr_ray *ray
 /* Rejected DP5 tries of one step before the ray ends as an error. */
 #define CR_DP5_MAX_RETRIES 60
 
-/* After an accepted Mino step: T where its own estimate says the step did
- * not resolve it, by quadrature on the dense output (mino.h), wherever the
- * time can still be needed (not moving outward beyond every object,
- * cr_frame.w_obj; never for a ray from inside the horizon, whose delay is
- * NaN). The scalar and the packet path (render/cpu_packet.c)
- * both call it. */
+/* Whether the step's end y1 lies beyond every object (cr_frame.w_obj)
+ * moving outward, where the ray meets nothing more and its time is no
+ * longer needed. */
+CR_HD static inline int cr_ray_time_done(const cr_frame *f, const double *y1)
+{
+    return y1[CR_M_DW] < 0.0 && y1[CR_M_W] < f->w_obj;
+}
+
+/* After an accepted Mino step: where its own estimate says the step did not
+ * resolve T (never for a ray from inside the horizon, whose delay is NaN),
+ * t_quad is set, so that a hit inside the step takes its T by quadrature on
+ * the dense output (cr_ray_delay_at, mino.h), and the end's T is replaced
+ * by the quadrature's wherever the time can still be needed
+ * (!cr_ray_time_done). A step that leaves every object outward may still
+ * meet one before its end: its hit's time is the quadrature's too. The
+ * scalar and the packet path (render/cpu_packet.c) both call it. */
 CR_HD static inline void cr_ray_time_step(const cr_frame *f, cr_ray *ray)
 {
     ray->t_quad = !cr_ray_ingoing(ray) && !ray->crossed && /* no delay there */
-                  !(ray->m1[CR_M_DW] < 0.0 && ray->m1[CR_M_W] < f->w_obj) &&
-                  cr_mino_t_unresolved(&ray->st, ray->m, ray->m1, ray->hm, f->tolerance);
-    if (ray->t_quad)
+                  cr_mino_t_unresolved(&ray->st, ray->m, ray->m1, ray->hm, cr_ray_tolerance(f));
+    if (ray->t_quad && !cr_ray_time_done(f, ray->m1))
         ray->m1[CR_M_T] = cr_mino_t_quad(&ray->c, &ray->st, ray->m, ray->m1, ray->hm, 1.0);
 }
 
@@ -671,7 +703,7 @@ CR_HD static inline int cr_ray_advance(const cr_frame *f, cr_ray *ray)
         if (cr_ray_ingoing(ray) && (ray->inner < 0 || (!ray->inner && !(ray->m[CR_M_DW] < 0.0))))
             return -1;
         for (tries = 0;; tries++) {
-            double err = cr_dp5_try(&ray->c, f->tolerance, h, ray->m, &ray->st, ray->m1);
+            double err = cr_dp5_try(&ray->c, cr_ray_tolerance(f), h, ray->m, &ray->st, ray->m1);
             double h_next = ray->h_next;
             if (cr_dp5_control(err, tries > 0, &h, &h_next)) {
                 double v0, v1;

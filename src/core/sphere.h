@@ -73,7 +73,7 @@ CR_HD static inline cr_rgb cr_sphere_color(const cr_sphere *s, const double x[3]
  * flow; for motion: orbit omega is the Keplerian circular orbit's at the
  * centre's r, so the centre moves on that geodesic and u there is the
  * orbit's). A ray meets it where it WAS when the ray passed: the state at
- * fraction s of a step is at BL time t = t_obs - cr_ray_delay_at(ray, s, y)
+ * fraction s of a step is at BL time t = t_obs - cr_ray_delay_at(f, ray, s, y)
  * (the ray's own coordinate time), and the sphere is looked for there in
  * its own coordinates (cr_sphere_unturn: the point turned back by
  * -omega t), where it is the static prepared sphere.
@@ -244,10 +244,12 @@ CR_HD static inline double cr_sphere_moved(const cr_frame *f, const cr_sphere *s
 CR_HD static inline double cr_sphere_ray_time(const cr_frame *f, const cr_ray *ray, double s,
                                               const double *y)
 {
-    /* at the step's ends T is the state's own (cr_ray_time_step) */
+    /* at the step's ends T is the state's own (cr_ray_time_step; an end
+     * beyond every object moving outward, whose T it may leave unresolved,
+     * is no sphere's hit) */
     if (s <= 0.0 || s >= 1.0)
         return f->t_obs - cr_ray_delay(ray, y);
-    return f->t_obs - cr_ray_delay_at(ray, s, y);
+    return f->t_obs - cr_ray_delay_at(f, ray, s, y);
 }
 
 /* The point of state y (fraction s of the current step) in sphere k's own
@@ -656,7 +658,7 @@ CR_HD static inline void cr_sphere_shade(const cr_frame *f, const cr_ray *ray, c
     px->object = (int16_t)h->index;
     px->hit_r = rr;
     px->hit_phi = cr_wrap_2pi(ph);
-    px->delay = cr_ray_delay_at(ray, h->s, h->y);
+    px->delay = cr_ray_delay_at(f, ray, h->s, h->y);
     cr_ray_cart(f, ray, h->y, xs);
     if (sp->moving) {
         double xl[3];

@@ -191,12 +191,12 @@ void PK_FN(cr_packet_trace)(const cr_frame *f, const cr_pixel_feed *feed)
     for (l = 0; l < PK_W; l++)
         pk_load(f, &p, l, feed);
     while (cr_v_any(p.live)) {
-        cr_vm retried, ok, cross, cut, n_cross, n_turn, acc, rej, fail, quad, ev, moved;
+        cr_vm retried, ok, cross, cut, n_cross, n_turn, acc, rej, fail, unres, quad, ev, moved;
         cr_vm check, hor, esc, lim;
         cr_vd err, turned, hstep;
         unsigned bits;
         retried = p.tries > 0.0;
-        err = cr_dp5_try_v(&p.c, f->tolerance, p.h, p.m, &p.st, p.m1);
+        err = cr_dp5_try_v(&p.c, cr_ray_tolerance(f), p.h, p.m, &p.st, p.m1);
         ok = cr_dp5_control_v(err, retried, &p.h, &p.h_next);
         cr_mino_project_v(&p.c, ok, p.m1, &p.st);
         cross = cr_mino_may_cross_equator_v(p.m, p.m1);
@@ -213,9 +213,10 @@ void PK_FN(cr_packet_trace)(const cr_frame *f, const cr_pixel_feed *feed)
         hstep = p.h; /* an accepted lane's step */
         /* the next try: an accepted step's successor, a rejected one's retry */
         p.h = cr_v_sel(ok, p.h_next, p.h);
-        /* cr_ray_time_step's test: T by quadrature where still needed */
-        quad = acc & (((p.m1[CR_M_DW] < 0.0) & (p.m1[CR_M_W] < f->w_obj)) == 0) &
-               cr_mino_t_unresolved_v(&p.st, p.m, p.m1, hstep, f->tolerance);
+        /* cr_ray_time_step's tests: T unresolved (t_quad), and its end's T
+         * by quadrature where still needed (quad) */
+        unres = acc & cr_mino_t_unresolved_v(&p.st, p.m, p.m1, hstep, cr_ray_tolerance(f));
+        quad = unres & (((p.m1[CR_M_DW] < 0.0) & (p.m1[CR_M_W] < f->w_obj)) == 0);
         if (f->n_spheres > 0)
             ev = acc;
         else if (f->disc.enabled)
@@ -232,7 +233,7 @@ void PK_FN(cr_packet_trace)(const cr_frame *f, const cr_pixel_feed *feed)
             l = __builtin_ctz(bits);
             ln = &p.lane[l];
             pk_scatter_step(&p, l, hstep[l]);
-            ln->ray.t_quad = quad[l] != 0;
+            ln->ray.t_quad = unres[l] != 0;
             if (quad[l]) {
                 cr_ray *r = &ln->ray;
                 r->m1[CR_M_T] = cr_mino_t_quad(&r->c, &r->st, r->m, r->m1, r->hm, 1.0);
