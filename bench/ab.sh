@@ -3,36 +3,40 @@
 # scene, the median CPU time (user + sys, bench/timecmd.py) of --runs frames
 # of each (A and B alternate run by run, the order reversed every other run),
 # the integration steps (info.txt) and CPU-ns per step, and B / A.
-# Frames write info.txt only (-t i); one thread, CPU backend.
+# Frames write info.txt only (-t i) unless --types says more; one thread,
+# CPU backend.
 #
 # Usage: bench/ab.sh A_BIN B_BIN [--runs N] [--size WxH] [--config FILE]
-#                    [--work DIR] SCENE...
+#                    [--types T] [--work DIR] SCENE...
 #   A_BIN, B_BIN   the two curray binaries (e.g. main's and a branch's)
 #   --runs N       frames per binary and scene (7)
 #   --size WxH     frame size (120x120)
 #   --config FILE  system configuration for -c (default: bench/scenes/mino.yml)
+#   --types T      output types for -t (i; e.g. id for the CSV's science frames)
 #   --work DIR     renders and logs (build-bench/ab-work)
 # Output: a markdown table on stdout.
 set -euo pipefail
 . "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 
 [ $# -ge 3 ] || die "usage: bench/ab.sh A_BIN B_BIN [options] SCENE... (see --help)"
-case $1 in -h | --help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
+case $1 in -h | --help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 A=$1 B=$2
 shift 2
 [ -x "$A" ] || die "not an executable: $A"
 [ -x "$B" ] || die "not an executable: $B"
-runs=7 size=120x120 cfg="$BENCH_DIR/scenes/mino.yml" work="$BUILD_DIR/ab-work" scenes=()
+runs=7 size=120x120 cfg="$BENCH_DIR/scenes/mino.yml" work="$BUILD_DIR/ab-work" types=i scenes=()
 while [ $# -gt 0 ]; do
     case $1 in
     --runs) runs=$2; shift 2 ;;
     --size) size=$2; shift 2 ;;
     --config) cfg=$2; shift 2 ;;
     --work) work=$2; shift 2 ;;
+    --types) types=$2; shift 2 ;;
     *) scenes+=("$1"); shift ;;
     esac
 done
 [[ $runs =~ ^[1-9][0-9]*$ ]] || die "--runs needs a positive integer, got '$runs'"
+[[ $types =~ ^[a-z]+$ && $types == *i* ]] || die "--types needs letters of -t with i (info.txt: the steps), got '$types'"
 [[ $size =~ ^([1-9][0-9]*)x([1-9][0-9]*)$ ]] || die "--size needs WxH, got '$size'"
 w=${BASH_REMATCH[1]} h=${BASH_REMATCH[2]}
 mkdir -p "$work"
@@ -41,7 +45,7 @@ one() { # BIN SCENE OUT -> "cpu_s"
     local bin=$1 scene=$2 o=$3
     rm -rf "$o" && mkdir -p "$o"
     python3 "$BENCH_DIR/timecmd.py" "$o/time" -- "$bin" -s "$scene" -c "$cfg" -o "$o" -x "$w" -y "$h" \
-        -t i -a true -q true --backend cpu --threads 1 || die "$bin failed on $scene (see $o/time.log)"
+        -t "$types" -a true -q true --backend cpu --threads 1 || die "$bin failed on $scene (see $o/time.log)"
     awk '{printf "%.6f\n", $2 + $3}' "$o/time"
 }
 

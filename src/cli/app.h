@@ -84,7 +84,8 @@ double cr_now(void);
  * frames, so v implies c. */
 int cr_has_type(const cr_run *run, char t);
 /* Whether the run's output types read pixels for their values (-t d, the
- * CSV; -t f, FITS): its frames are science frames (cr_frame.science). */
+ * CSV; -t f, FITS; -t s, the spectrum; -t l, the light curve): its frames
+ * are science frames (cr_frame.science). */
 int cr_run_science(const cr_run *run);
 
 /* Is frame k one that --resume keeps from the earlier run? */

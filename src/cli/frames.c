@@ -30,7 +30,8 @@ int cr_has_type(const cr_run *run, char t)
 
 int cr_run_science(const cr_run *run)
 {
-    return cr_has_type(run, 'd') || cr_has_type(run, 'f');
+    return cr_has_type(run, 'd') || cr_has_type(run, 'f') || cr_has_type(run, 's') ||
+           cr_has_type(run, 'l');
 }
 
 int cr_frame_kept(const cr_run *run, int k)

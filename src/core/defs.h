@@ -295,7 +295,8 @@ typedef struct cr_frame {
                                per pixel (cr_trace_pixel); 1 (or any value
                                outside 2..CR_MAX_SAMPLES) traces one ray */
     int science;            /* the frame's pixels are read for their values
-                               (hit_r, hit_phi, g, delay: CSV, FITS, Python),
+                               (hit_r, hit_phi, g, delay: CSV, FITS, the
+                               spectrum and light curve, Python),
                                not only for colours: its Mino steps take the
                                tighter tolerance of cr_ray_tolerance (ray.h);
                                0 (colour images, today's steps) unless the
