@@ -18,8 +18,8 @@
 set -euo pipefail
 . "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 
+case ${1:-} in -h | --help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 [ $# -ge 3 ] || die "usage: bench/ab.sh A_BIN B_BIN [options] SCENE... (see --help)"
-case $1 in -h | --help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 A=$1 B=$2
 shift 2
 [ -x "$A" ] || die "not an executable: $A"
