@@ -84,14 +84,20 @@ def _yaml(d, indent=0, path="", inside=()):
     return "".join(out)
 
 
-def _scene_args(scene):
-    if isinstance(scene, dict):
-        return _yaml(scene), False, "(scene dict)"
-    if isinstance(scene, (str, bytes, os.PathLike)):
-        path = os.fsdecode(scene)
+def _file_args(v, what, dict_name, kind):
+    """(text, is_path, name) of a YAML file given as a path or a dict of its
+    keys (named dict_name in messages); what: the parameter, kind: the file."""
+    if isinstance(v, dict):
+        return _yaml(v), False, dict_name
+    if isinstance(v, (str, bytes, os.PathLike)):
+        path = os.fsdecode(v)
         return path, True, path
-    raise ValueError("scene: expected a dict or the path of a YAML scene file, got %s"
-                     % type(scene).__name__)
+    raise ValueError("%s: expected a dict or the path of %s, got %s"
+                     % (what, kind, type(v).__name__))
+
+
+def _scene_args(scene):
+    return _file_args(scene, "scene", "(scene dict)", "a YAML scene file")
 
 
 def _config_text(config, others):
@@ -278,14 +284,7 @@ _ENDS = {0: "span", 1: "horizon", 2: "escaped"}
 
 
 def _orbit_args(spec, what):
-    """(text, is_path, name) of an orbit file given as a path or a dict."""
-    if isinstance(spec, dict):
-        return _yaml(spec), False, "(orbit dict)"
-    if isinstance(spec, (str, bytes, os.PathLike)):
-        path = os.fsdecode(spec)
-        return path, True, path
-    raise ValueError("%s: expected a dict or the path of an orbit file, got %s"
-                     % (what, type(spec).__name__))
+    return _file_args(spec, what, "(orbit dict)", "an orbit file")
 
 
 class Worldline(dict):
