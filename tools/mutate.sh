@@ -110,7 +110,7 @@ run_ctest() { # log args...
     local log=$1
     shift
     (cd "$build" && timeout "$suite_timeout" ctest -j "$jobs" --timeout "$test_timeout" \
-        --output-on-failure "$@") >>"$log" 2>&1
+        --output-on-failure "$@") </dev/null >>"$log" 2>&1
 }
 
 failed_tests() { # log
@@ -164,9 +164,12 @@ echo "mutate: baseline passes ($(($(date +%s) - t0)) s)${exclude:+, tests left o
 printf 'name\tfile\tresult\tfailing tests\tseconds\n' >"$results"
 n_killed=0 n_survived=0 n_na=0 n_build=0
 survivors=""
-# the list on fd 3: a test that reads its standard input (ctest passes it on)
-# must not swallow the rest of the list
-while IFS= read -r line <&3 || [ -n "$line" ]; do
+# the whole list is read before the first test runs: a test that reads its
+# standard input or an inherited descriptor (ctest passes them on) must not
+# move through the rest of the list (a shared file offset once skipped and
+# repeated lines, seen as "bad line" for a well-formed one)
+mapfile -t mutation_lines <"$list"
+for line in "${mutation_lines[@]}"; do
     case $line in '' | '#'*) continue ;; esac
     tabs=${line//[!$'\t']/}
     IFS=$'\t' read -r name file old new <<<"$line"
@@ -209,7 +212,7 @@ while IFS= read -r line <&3 || [ -n "$line" ]; do
     esac
     printf '%-30s %-12s %4ds  %s\n' "$name" "$verdict" "$dt" "$why"
     printf '%s\t%s\t%s\t%s\t%s\n' "$name" "$file" "$verdict" "$why" "$dt" >>"$results"
-done 3<"$list"
+done
 
 # leave the build of the unmutated tree behind
 cmake --build "$build" -j "$jobs" >"$logs/_build_final.log" 2>&1
