@@ -4,10 +4,13 @@
 # static, side by side. Scenes: scenes/hot-spot-isco.yml (a = 0.9, a spot of
 # radius 0.4 M on the ISCO, seen from r = 1000 M at 60 deg; frame k = 7 of its
 # 32, t_obs = 6.1 M) as shipped ("orbit") and with its motion and observer.t/dt
-# removed ("static": the spot at its phase of t = 0), and the same two from the
-# observer at infinity (hextent 14 M). Runs are interleaved; per case it
+# removed ("static": the spot at its phase of t = 0), the same spot as
+# motion: particle ("particle": its worldline tabulated, core/track.h; the
+# same pixels as orbit), and the same three from the observer at infinity
+# (hextent 14 M). Runs are interleaved; per case it
 # reports the median wall and CPU time, the steps per ray (info.txt), the
-# sphere pixels and the moving/static ratio of the CPU medians.
+# sphere pixels and the moving/static and particle/orbit ratios of the CPU
+# medians.
 #
 # Usage: bench/matter.sh [--runs R] [--size WxH] [--threads T]
 #   defaults: 5 runs, 320x320, curray's default threads
@@ -33,10 +36,24 @@ z2 = (3 * a * a + z1 * z1) ** 0.5
 print(repr(3 + z2 - ((3 - z1) * (3 + z1 + 2 * z2)) ** 0.5))")
 sed -e '/^  t: /d' -e '/^  dt:/d' -e '/^  motion: orbit/d' -e "s/^  r: isco/  r: $risco/" "$src" \
     >"$tmp/far-static.yml"
-for m in orbit static; do
+# particle: the same spot on the same orbit as motion: particle (its
+# worldline integrated from t = -1500 M, circular: prograde, and tabulated;
+# the same pixels as orbit, test_worldline_emitter), phase -Omega 1500 there
+ph0=$(python3 -c "
+import math
+print(repr(-1500.0 / ($risco ** 1.5 + 0.9)))")
+awk -v ph0="$ph0" '
+    /^sphere:/ { sp = 1 }
+    sp && /^  (r|theta|phi): / { next }
+    sp && /^  motion: orbit/ {
+        print "  motion: particle"; print "  particle:"; print "    r: isco"
+        print "    theta: 90"; print "    phi: " ph0 " rad"; print "    t: -1500"
+        print "    circular: prograde"; print "    tau: 1200"; next }
+    { print }' "$tmp/far-orbit.yml" >"$tmp/far-particle.yml"
+for m in orbit static particle; do
     sed -e 's/^  r: 1000$/  r: inf/' -e 's/^  hfov: .*/  hextent: 14/' "$tmp/far-$m.yml" >"$tmp/inf-$m.yml"
 done
-cases="far-static far-orbit inf-static inf-orbit"
+cases="far-static far-orbit far-particle inf-static inf-orbit inf-particle"
 for k in $(seq "$runs"); do
     for c in $cases; do
         o=$tmp/o-$c
@@ -50,8 +67,8 @@ for k in $(seq "$runs"); do
     done
 done
 echo "binary: $bin, $w x $h, $runs runs interleaved, $(nproc) CPUs, load $(cut -d' ' -f1 /proc/loadavg)"
-echo "| observer | sphere | runs | wall median (s) | CPU median (s) | steps/ray | sphere pixels | CPU moving/static |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| observer | sphere | runs | wall median (s) | CPU median (s) | steps/ray | sphere pixels | CPU moving/static | CPU particle/orbit |"
+echo "|---|---|---|---|---|---|---|---|---|"
 python3 - "$tmp" $cases <<'PY'
 import statistics, sys
 tmp, cases = sys.argv[1], sys.argv[2:]
@@ -63,8 +80,9 @@ for c in cases:
     cpu[c] = statistics.median(float(x[1]) + float(x[2]) for x in rows)
     steps, rays, sph = float(rows[0][5]), float(rows[0][6]), int(rows[0][7])
     obs, kind = c.split("-")
-    ratio = f"{cpu[c] / cpu[obs + '-static']:.3f}" if kind == "orbit" else ""
+    ratio = f"{cpu[c] / cpu[obs + '-static']:.3f}" if kind != "static" else ""
+    vs_orbit = f"{cpu[c] / cpu[obs + '-orbit']:.3f}" if kind == "particle" else ""
     where = "r = 1000 M" if obs == "far" else "at infinity"
     print(f"| {where} | {kind} | {len(rows)} | {wall:.3f} | {cpu[c]:.3f} | {steps / rays:.2f} | "
-          f"{sph} | {ratio} |")
+          f"{sph} | {ratio} | {vs_orbit} |")
 PY
