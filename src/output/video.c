@@ -115,9 +115,14 @@ typedef struct cr_video {
     AVFrame *frame;
     AVPacket *pkt;
     struct SwsContext *sws;
-    uint8_t *pad; /* the frame padded to even size (W x H x 3) */
+    uint8_t *pad; /* the frame padded to even size (W x H x 3), then CR_VIDEO_SRC_SLACK bytes */
     int w, h, W, H;
 } cr_video;
+
+/* sws_scale's SIMD readers load up to 32 bytes past the end of an RGB24
+ * source (libswscale 6, x86: measured with a guard page after the image), so
+ * the source buffer carries FFmpeg's input padding beyond the image. */
+#define CR_VIDEO_SRC_SLACK AV_INPUT_BUFFER_PADDING_SIZE
 
 static int cr_av_fail(cr_err *err, const char *path, const char *what, int code)
 {
@@ -179,7 +184,7 @@ static int cr_video_open(cr_video *v, const char *path, int w, int h, int fps, c
     v->enc = avcodec_alloc_context3(codec);
     v->frame = av_frame_alloc();
     v->pkt = av_packet_alloc();
-    v->pad = malloc((size_t)v->W * (size_t)v->H * 3);
+    v->pad = av_mallocz((size_t)v->W * (size_t)v->H * 3 + CR_VIDEO_SRC_SLACK);
     if (!v->st || !v->enc || !v->frame || !v->pkt || !v->pad)
         return cr_err_set(err, "writing %s: out of memory", path);
     v->enc->width = v->W;
@@ -270,7 +275,7 @@ static int cr_video_close(cr_video *v, int ok, cr_err *err)
     av_frame_free(&v->frame);
     av_packet_free(&v->pkt);
     sws_freeContext(v->sws);
-    free(v->pad);
+    av_free(v->pad);
     if (v->file_open) {
         if (rc == 0)
             rc = cr_atomic_commit(&v->file, err);
