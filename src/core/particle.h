@@ -28,7 +28,8 @@
  * (cr_dp5_try, cr_dp5_factor, cr_dp5_dense), the step loop of ray.h. t and
  * tau, which do not enter the right-hand side, are integrated over each
  * accepted step by 8-point Gauss-Legendre quadrature of dt/dlambda and
- * Sigma on the step's dense output. A worldline ends at the horizon stop
+ * Sigma on the step's dense output, a step being accepted only where that
+ * quadrature meets the tolerance too (cr_particle_time_err_). A worldline ends at the horizon stop
  * r = r+ + eps (located on the dense output), or beyond r_max.
  */
 #ifndef CR_CORE_PARTICLE_H
@@ -397,12 +398,31 @@ CR_HD static inline int cr_particle_observer_u(const cr_metric *mt, int kind, do
     return cr_isfinite(u[0]) && u[0] > 0.0;
 }
 
-/* Dense state at fraction s in [0, 1] of the last step, and its t and tau by
- * 8-point Gauss-Legendre quadrature of the rates on [0, s]. */
+/* The increments of t and tau over fractions [s0, s1] of the last step: 8-point
+ * Gauss-Legendre quadrature of dt/dlambda and Sigma on its dense output. */
+CR_HD static inline void cr_particle_quad_(const cr_particle *p, double s0, double s1,
+                                           double *dt_out, double *dtau_out)
+{
+    double st = 0.0, sa = 0.0, yq[CR_MN];
+    int i;
+    for (i = 0; i < 8; i++) {
+        double x, wgt, dt, dtau;
+        cr_quad_gl8(i, &x, &wgt);
+        cr_dp5_dense(&p->st, p->y0, p->y1, p->hm, s0 + 0.5 * (s1 - s0) * (x + 1.0), yq);
+        cr_particle_rates(p, yq, &dt, &dtau);
+        st += wgt * dt;
+        sa += wgt * dtau;
+    }
+    *dt_out = 0.5 * (s1 - s0) * p->hm * st;
+    *dtau_out = 0.5 * (s1 - s0) * p->hm * sa;
+}
+
+/* Dense state at fraction s in [0, 1] of the last step, and its t and tau
+ * (cr_particle_quad_ on [0, s]). */
 CR_HD static inline void cr_particle_dense(const cr_particle *p, double s, double *ys, double *t,
                                            double *tau)
 {
-    double st = 0.0, sa = 0.0, yq[CR_MN];
+    double dt, dtau;
     int i;
     if (p->hm == 0.0 || s <= 0.0) {
         for (i = 0; i < CR_MN; i++)
@@ -411,17 +431,27 @@ CR_HD static inline void cr_particle_dense(const cr_particle *p, double s, doubl
         *tau = p->tau0;
         return;
     }
-    for (i = 0; i < 8; i++) {
-        double x, wgt, dt, dtau;
-        cr_quad_gl8(i, &x, &wgt);
-        cr_dp5_dense(&p->st, p->y0, p->y1, p->hm, 0.5 * s * (x + 1.0), yq);
-        cr_particle_rates(p, yq, &dt, &dtau);
-        st += wgt * dt;
-        sa += wgt * dtau;
-    }
+    cr_particle_quad_(p, 0.0, s, &dt, &dtau);
     cr_dp5_dense(&p->st, p->y0, p->y1, p->hm, s, ys);
-    *t = p->t0 + 0.5 * s * p->hm * st;
-    *tau = p->tau0 + 0.5 * s * p->hm * sa;
+    *t = p->t0 + dt;
+    *tau = p->tau0 + dtau;
+}
+
+/* The error of the last step's t and tau (cr_particle_quad_ over the whole
+ * step against the sum over its halves) in units of the tolerance: relative
+ * to the increments, absolute below 1 M. The state's error control does not
+ * see t and tau (they do not enter the right-hand side), and a step that
+ * the state allows may be too long for them: radial motion far out, where
+ * the rates grow as r^2 across a step from r to several r. */
+CR_HD static inline double cr_particle_time_err_(const cr_particle *p)
+{
+    double t1, a1, ta, aa, tb, ab;
+    cr_particle_quad_(p, 0.0, 1.0, &t1, &a1);
+    cr_particle_quad_(p, 0.0, 0.5, &ta, &aa);
+    cr_particle_quad_(p, 0.5, 1.0, &tb, &ab);
+    return fmax(fabs(t1 - ta - tb) / fmax(fabs(t1), 1.0),
+                fabs(a1 - aa - ab) / fmax(fabs(a1), 1.0)) /
+           p->tol;
 }
 
 /* The point at fraction s of the last step (s = 1: its end). */
@@ -498,8 +528,12 @@ CR_HD static inline int cr_particle_step(cr_particle *p)
     }
     h = p->h_next;
     for (tries = 0;; tries++) {
-        double err = cr_dp5_try(&p->c, p->tol, h, p->y0, &p->st, p->y1);
-        double fac = cr_dp5_factor(err);
+        double err = cr_dp5_try(&p->c, p->tol, h, p->y0, &p->st, p->y1), fac;
+        if (err <= 1.0) { /* and t, tau over it */
+            p->hm = h;
+            err = fmax(err, cr_particle_time_err_(p));
+        }
+        fac = cr_dp5_factor(err);
         if (err <= 1.0) {
             p->hm = h;
             p->h_next = h * (tries > 0 && fac > 1.0 ? 1.0 : fac);

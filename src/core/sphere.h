@@ -216,9 +216,10 @@ CR_HD static inline int cr_sphere_local_at(const cr_frame *f, const cr_sphere *s
  * (compared with CR_SPHERE_MAX_TURN): the larger of its turn and its
  * centre's displacement over the larger of |c| and its radius; 0 where
  * both times lie on one side outside its table (no sphere in between: t is
- * monotonic along a ray outside the horizon), INFINITY where one of them
- * is outside and the other inside or beyond it (the piece is halved to
- * find the table's end). */
+ * monotonic along a ray outside the horizon) or one is NaN (no BL time: no
+ * place either), INFINITY where one of them is outside (t = +infinity at
+ * the start of a ray from the observer at infinity included) and the other
+ * inside or beyond it (the piece is halved to find the table's end). */
 CR_HD static inline double cr_sphere_moved(const cr_frame *f, const cr_sphere *sp, double ta,
                                            double tb)
 {
@@ -228,7 +229,7 @@ CR_HD static inline double cr_sphere_moved(const cr_frame *f, const cr_sphere *s
     if (!ia || !ib) {
         t_end = sp->track_t0 + (double)(sp->track_n - 1) * sp->track_h;
         if ((ta < sp->track_t0 && tb < sp->track_t0) || (ta > t_end && tb > t_end) ||
-            !cr_isfinite(ta) || !cr_isfinite(tb))
+            !(ta == ta) || !(tb == tb))
             return 0.0;
         return INFINITY;
     }
