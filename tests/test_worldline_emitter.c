@@ -30,6 +30,8 @@
  *    sphere where it is at t_obs (no travel time) would switch the pixel
  *    tens of M earlier, and g differs from a static source's by > 1e-2:
  *    the checks can fail.
+ * 2b. Flying out at 0.8 c from r = 6 M, seen from infinity on the axis
+ *    ray: met just after its table starts and at r ~ 30 M (test_outgoing).
  * 3. An eccentric orbit (Schwarzschild, p = 10 M, e = 0.3, from periapsis,
  *    particle.constants), seen face-on from infinity (the flux then
  *    depends on r and dr/dt only): the light curve (the frame's flux,
@@ -438,6 +440,146 @@ static void test_infall(void **state)
     close_scene(&A);
 }
 
+/* ---- 2b. flying out: a sphere far beyond where it started ------------ */
+
+#define OR0 6.0  /* the particle starts here at t = 0, on the line phi = 0 */
+#define OV 0.8   /* outward, measured by the static observer there */
+#define ORAD 1.0 /* sphere radius */
+
+/* E per unit mass of the outgoing particle and its t(r) - 0 from OR0 by
+ * 8-point Gauss-Legendre panels (<= 0.05 M) of dt/dr = E / (f sqrt(E^2 -
+ * f)), f = 1 - 2/r (a radial geodesic of Schwarzschild). */
+static double out_energy(void)
+{
+    return sqrt(1.0 - 2.0 / OR0) / sqrt(1.0 - OV * OV);
+}
+
+static double out_t(double r)
+{
+    double E = out_energy(), t = 0.0, lo = OR0;
+    int n = (int)ceil((r - OR0) / 0.05), k, j;
+    for (k = 0; k < n; k++) {
+        double hi = OR0 + (r - OR0) * (k + 1) / n, h = hi - lo;
+        for (j = 0; j < 8; j++) {
+            double x, w, rr, f;
+            cr_quad_gl8(j, &x, &w);
+            rr = lo + 0.5 * h * (x + 1.0);
+            f = 1.0 - 2.0 / rr;
+            t += 0.5 * h * w * E / (f * sqrt(E * E - f));
+        }
+        lo = hi;
+    }
+    return t;
+}
+
+/* The centre's r at BL time t >= 0 (t(r) grows with r; r - OR0 <= t). */
+static double out_rc(double t)
+{
+    double lo = OR0, hi = OR0 + t + 1.0;
+    int i;
+    for (i = 0; i < 60; i++) {
+        double mid = 0.5 * (lo + hi);
+        if (out_t(mid) > t)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* The renormalised delay of the observer at infinity (cr_ray_delay) for the
+ * radial ray out from r: t_o - t = r*(r_o) - r*(r), r* = r + 2 ln(r/2 - 1),
+ * less r_o + 2 ln r_o as r_o -> infinity. */
+static double out_delay(double r)
+{
+    return -2.0 * log(2.0) - r - 2.0 * log(0.5 * r - 1.0);
+}
+
+/* r - R - r_c(t) on the axis ray at r: the ray's point against the sphere's
+ * near side at the ray's time there (travel) or at T; +1 before t = 0. */
+static double out_gap(double r, double T, int travel)
+{
+    double t = travel ? T - out_delay(r) : T;
+    return t < 0.0 ? 1.0 : r - ORAD - out_rc(t);
+}
+
+/* Where the axis ray, traced in from far out, first meets the sphere. */
+static double out_hit(double T, int travel)
+{
+    double r = 200.0, lo, hi;
+    int i;
+    while (r > OR0 && out_gap(r, T, travel) > 0.0)
+        r -= 0.01;
+    lo = r;
+    hi = r + 0.01;
+    for (i = 0; i < 60; i++) {
+        double mid = 0.5 * (lo + hi);
+        if (out_gap(mid, T, travel) > 0.0)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* A particle flying out from r = 6 M at 0.8 c (Schwarzschild, on the line
+ * towards the observer at infinity), a sphere of R = 1 M: the middle pixel
+ * of 3 x 3 (the axis ray) at two times, the sphere met at t = 0.5 M just
+ * after its table starts (the ray's steps there reach back before it) and
+ * at r ~ 30 M, five times beyond where it started (the scene's radius must
+ * hold the whole worldline, and the ray's first step from infinity
+ * reaches inside the sphere). hit_r within tol M of the independent value
+ * (the near side where the ray passes it: r - R = r_c(T - delay(r)), r_c by
+ * quadrature of the radial geodesic), the delay within tol M, and g within
+ * tol of 1 / (u^t (1 - (dr/dt) / f)) at the hit (u of the translating
+ * matter: the centre's dr/dt); tol 1e-7 in a science frame, 1e-6 in a
+ * colour one. The worldline's t comes within tol only if its steps are
+ * limited by t's quadrature too (from r = 23.6 to 49.5 M in one step, its t
+ * was 2e-3 M off). Without the travel time the sphere would be met several
+ * M away. */
+static void outgoing(int science, double tol)
+{
+    char text[1024];
+    const double t_emit[2] = {0.5, 0.0}; /* the second: when the centre is at r = 30 */
+    double E = out_energy();
+    int n;
+    loaded A;
+    snprintf(text, sizeof text,
+             "metric: {m: 1, a: 0, q: 0}\n"
+             "observer: {r: inf, theta: 90, phi: 0, hextent: 3, t: 0}\n"
+             "sphere:\n  color: [0, 0, 255]\n  resolution: [1, 1]\n  radius: %g\n"
+             "  motion: particle\n  particle:\n    r: %g\n    theta: 90\n"
+             "    phi: 0\n    t: 0\n    velocity: [%g, 0, 0]\n    tau: 40\n",
+             ORAD, OR0, OV);
+    open_scene(&A, text, 3, 3, CR_INTEG_MINO);
+    A.ev.frame.science = science;
+    for (n = 0; n < 2; n++) {
+        double te = n == 0 ? t_emit[0] : out_t(30.0), rc = out_rc(te);
+        double T = te + out_delay(rc + ORAD), rh = out_hit(T, 1), rnt = out_hit(T, 0);
+        double rp = out_rc(T - out_delay(rh)), fp = 1.0 - 2.0 / rp, fh = 1.0 - 2.0 / rh;
+        double drdt = fp * sqrt(E * E - fp) / E, ut = 1.0 / sqrt(fh - drdt * drdt / fh);
+        double g = 1.0 / (ut * (1.0 - drdt / fh));
+        cr_pixel p;
+        assert_true(sees_sphere(&A.ev.frame, 1, 1, T, &p));
+        print_message("outgoing (%s frame): t_obs %.6f M (the centre at r = %.4f when the light left): "
+                      "hit_r %.9f (independent %.9f; without travel time %.4f), delay %.9f "
+                      "(%.9f), g %.9f (%.9f)\n",
+                      science ? "science" : "colour", T, rc, p.hit_r, rh, rnt, p.delay, out_delay(rh), p.redshift, g);
+        assert_true(fabs(p.hit_r - rh) <= tol);
+        assert_true(fabs(p.delay - out_delay(rh)) <= tol);
+        assert_true(fabs(p.redshift - g) <= tol * g);
+        assert_true(fabs(rnt - rh) > 1.0);
+    }
+    close_scene(&A);
+}
+
+static void test_outgoing(void **state)
+{
+    (void)state;
+    outgoing(1, 1e-7);
+    outgoing(0, 1e-6);
+}
+
 /* ---- 3. an eccentric orbit: the light curve's period ---------------- */
 
 /* The frame's flux (the light curve's, cr_lightcurve_compute) at T. */
@@ -655,6 +797,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_circular),
         cmocka_unit_test(test_infall),
+        cmocka_unit_test(test_outgoing),
         cmocka_unit_test(test_eccentric),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_units),
