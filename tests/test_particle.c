@@ -35,6 +35,8 @@
  * - Radial infall from rest at r0 = 10 M to the horizon stop: proper time
  *   against the cycloid tau = sqrt(r0^3 / 8M) (eta + sin eta), r = r0 (1 +
  *   cos eta) / 2, to 1e-9 relative; the worldline ends there.
+ * - Radial escape at 0.8 c from r0 = 6 M to r = 1e4 M: t and tau at each
+ *   step's end and middle against their quadrature over r, 1e-9 relative.
  * - Refused starts: |v| >= 1, inside the horizon, non-finite q/m, constants
  *   that do not allow the position.
  */
@@ -551,6 +553,68 @@ static void test_radial_infall(void **state)
     }
 }
 
+/* ---- escape: t and tau far out -------------------------------------------- */
+
+/* t(r) and tau(r) of the radial escape from r0 with energy E (Schwarzschild):
+ * dt/dr = E / (f sqrt(E^2 - f)), dtau/dr = 1 / sqrt(E^2 - f), f = 1 - 2/r, by
+ * 8-point Gauss-Legendre panels 1 % of r wide. */
+static void escape_times(double r0, double E, double r, double *t, double *tau)
+{
+    double lo = r0;
+    *t = *tau = 0.0;
+    while (lo < r) {
+        double hi = fmin(r, lo * 1.01), h = hi - lo;
+        int j;
+        for (j = 0; j < 8; j++) {
+            double x, w, rr, f, sq;
+            cr_quad_gl8(j, &x, &w);
+            rr = lo + 0.5 * h * (x + 1.0);
+            f = 1.0 - 2.0 / rr;
+            sq = sqrt(E * E - f);
+            *t += 0.5 * h * w * E / (f * sq);
+            *tau += 0.5 * h * w / sq;
+        }
+        lo = hi;
+    }
+}
+
+/* A particle flying out radially at 0.8 c (measured by the static observer
+ * at r0 = 6 M) to r_max = 1e4 M: t and tau at every step's end and at its
+ * middle (dense output) against escape_times, 1e-9 relative. The state's own
+ * error control allows steps from r to several r there, over which t and tau
+ * need their own (cr_particle_time_err_). */
+static void test_escape(void **state)
+{
+    cr_metric mt = mk(0.0, 0.0);
+    double r0 = 6.0, v[3] = {0.8, 0.0, 0.0}, u[4], E = sqrt(1.0 - 2.0 / r0) / 0.6;
+    double worst_t = 0.0, worst_tau = 0.0;
+    cr_particle p;
+    cr_particle_point pt;
+    int half;
+    (void)state;
+    assert_true(cr_particle_observer_u(&mt, CR_PARTICLE_OBS_STATIC, r0, 0.5 * CR_PI, v, u));
+    assert_true(cr_particle_start_u(&p, &mt, 0.0, TOL, EPS, 1e4, 0.0, r0, 0.5 * CR_PI, 0.0, u));
+    cr_particle_current(&p, &pt);
+    while (cr_particle_step(&p) == CR_PARTICLE_RUNNING || p.ended == CR_PARTICLE_ESCAPED) {
+        for (half = 0; half < 2; half++) {
+            double t, tau;
+            cr_particle_at(&p, half ? 1.0 : 0.5, &pt);
+            escape_times(r0, E, pt.r, &t, &tau);
+            worst_t = fmax(worst_t, rel(pt.t, t));
+            worst_tau = fmax(worst_tau, rel(pt.tau, tau));
+        }
+        if (p.ended)
+            break;
+    }
+    assert_int_equal(p.ended, CR_PARTICLE_ESCAPED);
+    printf("escape at 0.8 c from r0 = 6 to r = %g in %ld steps: t (%.6g) within %.2e, tau "
+           "within %.2e\n",
+           pt.r, p.steps, pt.t, worst_t, worst_tau);
+    assert_true(fabs(pt.r - 1e4) < 1e-6);
+    assert_true(worst_t < 1e-9);
+    assert_true(worst_tau < 1e-9);
+}
+
 /* ---- observers ----------------------------------------------------------- */
 
 static void test_observers(void **state)
@@ -623,6 +687,7 @@ int main(void)
         cmocka_unit_test(test_random_worldlines), cmocka_unit_test(test_circular_kn),
         cmocka_unit_test(test_isco),           cmocka_unit_test(test_charged_circular_rn),
         cmocka_unit_test(test_perihelion),     cmocka_unit_test(test_radial_infall),
+        cmocka_unit_test(test_escape),
         cmocka_unit_test(test_observers),      cmocka_unit_test(test_refused),
     };
     return cmocka_run_group_tests(tests, 0, 0);
