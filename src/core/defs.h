@@ -148,6 +148,18 @@ typedef struct cr_disc {
                         met on every crossing */
 } cr_disc;
 
+/* A particle sphere's worldline, tabulated in coordinate time (track.h):
+ * samples off .. off + n - 1 of cr_frame.track at BL times t0 + i h, the
+ * start's azimuth ph0, and bounds of the sphere's points at every time over
+ * it: reach_lo <= |x| <= reach_hi, z_lo <= z <= z_hi (sphere.h,
+ * cr_sphere_far); units of M. */
+typedef struct cr_sphere_worldline {
+    long off;
+    int n;
+    double t0, h, ph0;
+    double reach_lo, reach_hi, z_lo, z_hi;
+} cr_sphere_worldline;
+
 /* A sphere defined in the Cartesian coordinates (2.2.8). Centre at BL
  * (r, theta, phi); chessboard of n_lat latitude bands x n_lon longitude
  * sectors; orientation by roll, pitch, yaw about its local axes (E.4).
@@ -169,21 +181,14 @@ typedef struct cr_sphere {
      * still traced with the light's travel time): at BL coordinate time t it
      * is the sphere above (its phi the phase at t = 0) turned by omega t
      * about the polar axis.
-     * particle = 1 (moving = 1, omega = 0): the sphere's centre moves on a
-     * worldline tabulated in coordinate time (track.h): samples
-     * track_off .. track_off + track_n - 1 of cr_frame.track, at BL times
-     * track_t0 + i track_h; the sphere above is its place at track_t0
-     * (centre at sample 0, azimuth ph0 there), carried with the centre and
-     * turned about the polar axis by the centre's azimuth since. reach_lo,
-     * reach_hi bound the distance |x| of its points from the origin and
-     * z_lo, z_hi their z, at every time (sphere.h, cr_sphere_far). */
+     * particle = 1 (moving = 1, omega = 0): the sphere's centre moves on
+     * the worldline wl; the sphere above is its place at wl.t0 (centre at
+     * sample 0, azimuth wl.ph0 there), carried with the centre and turned
+     * about the polar axis by the centre's azimuth since. */
     int moving;
     double omega;
     int particle;
-    int track_n;
-    long track_off;
-    double track_t0, track_h, ph0;
-    double reach_lo, reach_hi, z_lo, z_hi;
+    cr_sphere_worldline wl;
 } cr_sphere;
 
 /* One sample of a tabulated worldline (track.h): the Cartesian position x

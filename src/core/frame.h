@@ -88,8 +88,8 @@ CR_HD static inline void cr_frame_prepare(cr_frame *f)
         const double *c = f->spheres[k].center;
         /* Cartesian distance bounds BL r from above: |x|^2 = r^2 + a^2 sin^2 */
         double ext = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + f->spheres[k].radius;
-        if (f->spheres[k].particle && f->spheres[k].reach_hi > ext) /* over its worldline */
-            ext = f->spheres[k].reach_hi;
+        if (f->spheres[k].particle && f->spheres[k].wl.reach_hi > ext) /* over its worldline */
+            ext = f->spheres[k].wl.reach_hi;
         if (ext > ro)
             ro = ext;
     }

@@ -180,10 +180,10 @@ CR_HD static inline void cr_sphere_unturn(const cr_sphere *s, double t, const do
 CR_HD static inline int cr_sphere_pose(const cr_frame *f, const cr_sphere *sp, double t,
                                        double c[3], double *ang, double dc[3], double *w)
 {
-    if (!cr_track_at(f->track + sp->track_off, sp->track_n, sp->track_t0, sp->track_h, t, c,
+    if (!cr_track_at(f->track + sp->wl.off, sp->wl.n, sp->wl.t0, sp->wl.h, t, c,
                      ang, dc, w))
         return 0;
-    *ang -= sp->ph0;
+    *ang -= sp->wl.ph0;
     return 1;
 }
 
@@ -227,8 +227,8 @@ CR_HD static inline double cr_sphere_moved(const cr_frame *f, const cr_sphere *s
     int ia = cr_sphere_pose(f, sp, ta, ca, &aa, da, &wa);
     int ib = cr_sphere_pose(f, sp, tb, cb, &ab, db, &wb), k;
     if (!ia || !ib) {
-        t_end = sp->track_t0 + (double)(sp->track_n - 1) * sp->track_h;
-        if ((ta < sp->track_t0 && tb < sp->track_t0) || (ta > t_end && tb > t_end) ||
+        t_end = sp->wl.t0 + (double)(sp->wl.n - 1) * sp->wl.h;
+        if ((ta < sp->wl.t0 && tb < sp->wl.t0) || (ta > t_end && tb > t_end) ||
             !(ta == ta) || !(tb == tb))
             return 0.0;
         return INFINITY;
@@ -406,7 +406,8 @@ CR_HD static inline double cr_sphere_piece(const cr_frame *f, const cr_ray *ray,
  * |z - c_z| <= R, by a quarter of its length under Mino (cr_sphere_piece's
  * slack); or the piece starts and ends inside the sphere's smallest BL
  * radius, sqrt((|c| - R)^2 - a^2) (for a particle sphere the ball, slab and
- * radius of its bounds over the table: reach_hi, z_lo .. z_hi, reach_lo)
+ * radius of its bounds over the table: wl.reach_hi, wl.z_lo .. wl.z_hi,
+ * wl.reach_lo)
  * (|x|^2 = r^2 + a^2 sin^2 theta <= r^2 +
  * a^2), moving inward at both ends: leaving that radius and coming back
  * within it would take two radial turning points, which light outside
@@ -423,10 +424,10 @@ CR_HD static inline int cr_sphere_far(const cr_frame *f, const cr_ray *ray, int 
     double z_hi = c[2] + sp->radius, z_lo = c[2] - sp->radius;
     int i;
     if (sp->particle) {
-        rho = sp->reach_hi;
-        lo = sp->reach_lo;
-        z_hi = sp->z_hi;
-        z_lo = sp->z_lo;
+        rho = sp->wl.reach_hi;
+        lo = sp->wl.reach_lo;
+        z_hi = sp->wl.z_hi;
+        z_lo = sp->wl.z_lo;
     }
     for (i = 0; i < 3; i++) {
         d[i] = x1[i] - x0[i];

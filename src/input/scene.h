@@ -43,16 +43,10 @@ typedef struct cr_scene_sphere {
                                     unit (default 0: at rest) */
     /* motion particle: the particle's initial data (sphere.particle, the
      * keys of an orbit file's particle section; owned), NULL otherwise;
-     * r, theta, phi above are its start. Its worldline's table is
-     * cr_scene.track[track_off .. track_off + track_n - 1] (core/track.h),
-     * at BL times track_t0 + i track_h, its start's azimuth ph0, and the
-     * bounds of the sphere's points over it (cr_sphere's reach_lo,
-     * reach_hi, z_lo, z_hi): all in units of M, as the core takes them. */
+     * r, theta, phi above are its start. wl: its worldline, samples of
+     * cr_scene.track (core/track.h), in units of M as the core takes it. */
     struct cr_particle_spec *particle;
-    long track_off;
-    int track_n;
-    double track_t0, track_h, ph0;
-    double reach_lo, reach_hi, z_lo, z_hi;
+    cr_sphere_worldline wl;
 } cr_scene_sphere;
 
 /* How a sphere moves (sphere.motion; core/sphere.h). A moving one is seen

@@ -809,15 +809,7 @@ int cr_scene_frame(const cr_scene *s, int k, int n, int width, int height,
         cr_sphere *sp = &sphere_buf[i];
         cr_sphere_to_units_of_m(sp, f->metric.m);
         if (sp->particle) { /* its table is in units of M already */
-            sp->track_off = ss->track_off;
-            sp->track_n = ss->track_n;
-            sp->track_t0 = ss->track_t0;
-            sp->track_h = ss->track_h;
-            sp->ph0 = ss->ph0;
-            sp->reach_lo = ss->reach_lo;
-            sp->reach_hi = ss->reach_hi;
-            sp->z_lo = ss->z_lo;
-            sp->z_hi = ss->z_hi;
+            sp->wl = ss->wl;
         }
     }
     f->track = s->track;

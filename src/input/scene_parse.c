@@ -969,8 +969,8 @@ static int sphere_track(cr_yaml *y, yaml_node_t *where, const char *p, const cr_
     if (!cr_particle_spec_start(ps, &pa) || cr_track_fill(&pa, t_end, n, tab))
         return cr_yaml_fail(y, where, sub, err,
                             "the worldline's integration failed before its end");
-    sp->reach_hi = sp->z_hi = -INFINITY;
-    sp->reach_lo = sp->z_lo = INFINITY;
+    sp->wl.reach_hi = sp->wl.z_hi = -INFINITY;
+    sp->wl.reach_lo = sp->wl.z_lo = INFINITY;
     for (i = 0; i < n; i++) { /* into units of M: lengths and times / m, rates * m */
         double c2 = 0.0, rad = sp->radius.a * k, cn;
         for (j = 0; j < 3; j++) {
@@ -979,10 +979,10 @@ static int sphere_track(cr_yaml *y, yaml_node_t *where, const char *p, const cr_
         }
         tab[i].w *= m;
         cn = sqrt(c2);
-        sp->reach_hi = fmax(sp->reach_hi, cn + rad);
-        sp->reach_lo = fmin(sp->reach_lo, cn - rad);
-        sp->z_hi = fmax(sp->z_hi, tab[i].x[2] + rad);
-        sp->z_lo = fmin(sp->z_lo, tab[i].x[2] - rad);
+        sp->wl.reach_hi = fmax(sp->wl.reach_hi, cn + rad);
+        sp->wl.reach_lo = fmin(sp->wl.reach_lo, cn - rad);
+        sp->wl.z_hi = fmax(sp->wl.z_hi, tab[i].x[2] + rad);
+        sp->wl.z_lo = fmin(sp->wl.z_lo, tab[i].x[2] - rad);
     }
     /* between samples the Hermite curve may bulge out a little: a margin of
      * the largest step along it */
@@ -994,16 +994,16 @@ static int sphere_track(cr_yaml *y, yaml_node_t *where, const char *p, const cr_
                 d2 += (tab[i + 1].x[j] - tab[i].x[j]) * (tab[i + 1].x[j] - tab[i].x[j]);
             dmax = fmax(dmax, sqrt(d2));
         }
-        sp->reach_hi += dmax;
-        sp->reach_lo -= dmax;
-        sp->z_hi += dmax;
-        sp->z_lo -= dmax;
+        sp->wl.reach_hi += dmax;
+        sp->wl.reach_lo -= dmax;
+        sp->wl.z_hi += dmax;
+        sp->wl.z_lo -= dmax;
     }
-    sp->track_off = s->n_track;
-    sp->track_n = n;
-    sp->track_t0 = ps->t0 * k;
-    sp->track_h = h;
-    sp->ph0 = tab[0].ph;
+    sp->wl.off = s->n_track;
+    sp->wl.n = n;
+    sp->wl.t0 = ps->t0 * k;
+    sp->wl.h = h;
+    sp->wl.ph0 = tab[0].ph;
     s->n_track += n;
     return 0;
 }
