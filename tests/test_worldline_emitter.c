@@ -503,11 +503,13 @@ static double out_gap(double r, double T, int travel)
     return t < 0.0 ? 1.0 : r - ORAD - out_rc(t);
 }
 
-/* Where the axis ray, traced in from far out, first meets the sphere. */
-static double out_hit(double T, int travel)
+/* Where the axis ray, traced in from r_from (outside the sphere then),
+ * first meets the sphere. */
+static double out_hit(double T, int travel, double r_from)
 {
-    double r = 200.0, lo, hi;
+    double r = r_from, lo, hi;
     int i;
+    assert_true(out_gap(r, T, travel) > 0.0);
     while (r > OR0 && out_gap(r, T, travel) > 0.0)
         r -= 0.01;
     lo = r;
@@ -555,7 +557,8 @@ static void outgoing(int science, double tol)
     A.ev.frame.science = science;
     for (n = 0; n < 2; n++) {
         double te = n == 0 ? t_emit[0] : out_t(30.0), rc = out_rc(te);
-        double T = te + out_delay(rc + ORAD), rh = out_hit(T, 1), rnt = out_hit(T, 0);
+        double T = te + out_delay(rc + ORAD), rh = out_hit(T, 1, rc + ORAD + 3.0);
+        double rnt = out_hit(T, 0, rc + ORAD + 3.0);
         double rp = out_rc(T - out_delay(rh)), fp = 1.0 - 2.0 / rp, fh = 1.0 - 2.0 / rh;
         double drdt = fp * sqrt(E * E - fp) / E, ut = 1.0 / sqrt(fh - drdt * drdt / fh);
         double g = 1.0 / (ut * (1.0 - drdt / fh));
