@@ -29,8 +29,9 @@
  * tau, which do not enter the right-hand side, are integrated over each
  * accepted step by 8-point Gauss-Legendre quadrature of dt/dlambda and
  * Sigma on the step's dense output, a step being accepted only where that
- * quadrature meets the tolerance too (cr_particle_time_err_). A worldline ends at the horizon stop
- * r = r+ + eps (located on the dense output), or beyond r_max.
+ * quadrature meets the tolerance too (cr_particle_time_err_). A worldline
+ * ends at the horizon stop r = r+ + eps (located on the dense output), or
+ * beyond r_max.
  */
 #ifndef CR_CORE_PARTICLE_H
 #define CR_CORE_PARTICLE_H
