@@ -31,7 +31,9 @@
  *    tens of M earlier, and g differs from a static source's by > 1e-2:
  *    the checks can fail.
  * 2b. Flying out at 0.8 c from r = 6 M, seen from infinity on the axis
- *    ray: met just after its table starts and at r ~ 30 M (test_outgoing).
+ *    ray: met just after its table starts and at r ~ 30 M (test_outgoing);
+ *    and on the far side, seen through the lens at r ~ 30 M
+ *    (test_outgoing_behind).
  * 3. An eccentric orbit (Schwarzschild, p = 10 M, e = 0.3, from periapsis,
  *    particle.constants), seen face-on from infinity (the flux then
  *    depends on r and dr/dt only): the light curve (the frame's flux,
@@ -576,6 +578,53 @@ static void outgoing(int science, double tol)
     close_scene(&A);
 }
 
+/* The same particle flying out on the far side (phi = pi), R = 2 M, seen
+ * from infinity through the hole's lens when it is near r = 30 M, five times
+ * beyond its start: its light reaches the camera only on rays that pass the
+ * hole and go out again to r ~ 30 M, so the scene's radius must hold the
+ * whole worldline. At least 4 pixels of the middle row of 201 x 3 over
+ * +-20 M (rays in the equator) see it, and at each the hit lies on the
+ * sphere where the quadrature puts its centre when the light left
+ * (|x_hit - c(T - delay)| = R within 1e-6 M, science frame). */
+static void test_outgoing_behind(void **state)
+{
+    char text[1024];
+    const double R = 2.0, T = 78.0;
+    loaded A;
+    cr_frame *f;
+    int i, seen = 0;
+    double worst = 0.0;
+    (void)state;
+    snprintf(text, sizeof text,
+             "metric: {m: 1, a: 0, q: 0}\n"
+             "observer: {r: inf, theta: 90, phi: 0, hextent: 40, t: %g}\n"
+             "sphere:\n  color: [0, 0, 255]\n  resolution: [1, 1]\n  radius: %g\n"
+             "  motion: particle\n  particle:\n    r: %g\n    theta: 90\n"
+             "    phi: 180\n    t: 0\n    velocity: [%g, 0, 0]\n    tau: 60\n",
+             T, R, OR0, OV);
+    open_scene(&A, text, 201, 3, CR_INTEG_MINO);
+    f = &A.ev.frame;
+    f->science = 1;
+    for (i = 0; i < 201; i++) {
+        cr_pixel p = cr_trace_pixel(f, i, 1);
+        double rc, dx, dy, d;
+        if (p.outcome != CR_OUT_SPHERE)
+            continue;
+        seen++;
+        rc = out_rc(T - p.delay); /* the centre at (-rc, 0, 0) */
+        dx = p.hit_r * cos(p.hit_phi) + rc;
+        dy = p.hit_r * sin(p.hit_phi);
+        d = sqrt(dx * dx + dy * dy);
+        worst = fmax(worst, fabs(d - R));
+    }
+    print_message("outgoing behind the hole: %d of the middle row's 201 pixels see it at t_obs = %g M; "
+                  "worst |x_hit - c(t)| - R %.3g M\n",
+                  seen, T, worst);
+    assert_true(seen >= 4);
+    assert_true(worst <= 1e-6);
+    close_scene(&A);
+}
+
 static void test_outgoing(void **state)
 {
     (void)state;
@@ -801,6 +850,7 @@ int main(void)
         cmocka_unit_test(test_circular),
         cmocka_unit_test(test_infall),
         cmocka_unit_test(test_outgoing),
+        cmocka_unit_test(test_outgoing_behind),
         cmocka_unit_test(test_eccentric),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_units),
