@@ -155,8 +155,9 @@ cli_compare() { # the CLI on CPU and GPU, 3 frames, each integrator
 
 # The scenes whose every frame is compared on CPU and GPU at 64x36: the plunges
 # through r+ (Kerr) and r+ and r- (RN), and the moving spheres (light-travel
-# time, Doppler from the matter's 4-velocity), as SCENE:FRAMES.
-scene_compare_list="plunge-reissner-nordstrom:240 plunge-kerr:240 hot-spot-isco:32"
+# time, Doppler from the matter's 4-velocity; hot-spot-eccentric on a tabulated
+# particle worldline, core/track.h), as SCENE:FRAMES.
+scene_compare_list="plunge-reissner-nordstrom:240 plunge-kerr:240 hot-spot-isco:32 hot-spot-eccentric:32"
 
 scene_compare() { # each scene of scene_compare_list on CPU and GPU, every frame
     local item sc nf be k d tot worst wk
