@@ -145,12 +145,12 @@ awk -v n=$N -v h="$hash" -v sum="$sum" 'BEGIN {
 for k in $(seq 0 $((N - 1))); do ln one/c_0.png sig/c_$k.png; done
 # signal_video SIGNALS TEXT: start the resumed run, send SIGNALS (1 or 2
 # SIGTERMs) once the video's temporary file is there; caught=1 when the run
-# said TEXT (up to 30 tries: the video may end before the signal, or the run
+# said TEXT (up to 100 tries: the video may end before the signal, or the run
 # before the second signal; at a load of 3 on 2 cores all of 8 tries once
 # stopped on the first signal, each try takes a fraction of a second)
 signal_video() {
     caught=0
-    for try in $(seq 1 30); do
+    for try in $(seq 1 100); do
         rm -f sig/c.mp4
         "$CURRAY" "${SIG[@]}" --resume </dev/null >sig.out 2>&1 &
         pid=$!
